@@ -1,0 +1,351 @@
+#include "scenes/gltf_loader.hpp"
+
+#include <tiny_gltf.h>
+#include <glm/gtc/quaternion.hpp>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include "scenes/json_reader.hpp"
+#include "scenes/mesh_utils.hpp"
+
+namespace vs {
+
+namespace {
+
+// Images are not used (only baseColorFactor is), so they are not decoded.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+bool allFinite(const std::vector<double>& values) {
+  for (double v : values)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+// A validated accessor: every element lies inside its buffer view, which lies inside its buffer.
+struct AccessorView {
+  const unsigned char* data = nullptr;  // first element; nullptr = all zeros (no buffer view)
+  size_t stride = 0, count = 0;
+};
+
+class GltfReader {
+ public:
+  GltfReader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
+
+  [[noreturn]] void fail(const std::string& problem) const { throwSceneError(path_, "", problem); }
+
+  GltfContent read(const glm::mat4& transform) {
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+      int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+      if (size_t(sceneIndex) >= model_.scenes.size()) fail("default scene " + std::to_string(sceneIndex) + " does not exist");
+      roots = model_.scenes[size_t(sceneIndex)].nodes;
+    } else {
+      std::vector<bool> isChild(model_.nodes.size(), false);
+      for (const tinygltf::Node& node : model_.nodes)
+        for (int child : node.children)
+          if (child >= 0 && size_t(child) < isChild.size()) isChild[size_t(child)] = true;
+      for (size_t n = 0; n < model_.nodes.size(); ++n)
+        if (!isChild[n]) roots.push_back(int(n));
+    }
+    onPath_.assign(model_.nodes.size(), false);
+    for (int root : roots) visitNode(root, transform);
+    return std::move(content_);
+  }
+
+ private:
+  const tinygltf::Node& nodeAt(int index) const {
+    if (index < 0 || size_t(index) >= model_.nodes.size())
+      fail("node index " + std::to_string(index) + " out of range (" + std::to_string(model_.nodes.size()) + " nodes)");
+    return model_.nodes[size_t(index)];
+  }
+
+  glm::mat4 localMatrix(int index, const tinygltf::Node& node) const {
+    std::string where = "node " + std::to_string(index) + ": ";
+    if (!allFinite(node.matrix) || !allFinite(node.translation) || !allFinite(node.rotation) || !allFinite(node.scale))
+      fail(where + "non-finite transform");
+    if (!node.matrix.empty()) {
+      if (node.matrix.size() != 16) fail(where + "'matrix' must have 16 numbers");
+      glm::mat4 m;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m[c][r] = float(node.matrix[size_t(c * 4 + r)]);  // column-major, like glTF
+      return m;
+    }
+    glm::mat4 t(1.0f), r(1.0f), s(1.0f);
+    if (!node.translation.empty()) {
+      if (node.translation.size() != 3) fail(where + "'translation' must have 3 numbers");
+      t[3] = glm::vec4(float(node.translation[0]), float(node.translation[1]), float(node.translation[2]), 1.0f);
+    }
+    if (!node.rotation.empty()) {
+      if (node.rotation.size() != 4) fail(where + "'rotation' must have 4 numbers");
+      glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]));
+      if (glm::length(q) == 0.0f) fail(where + "'rotation' is a zero quaternion");
+      r = glm::mat4_cast(glm::normalize(q));
+    }
+    if (!node.scale.empty()) {
+      if (node.scale.size() != 3) fail(where + "'scale' must have 3 numbers");
+      s[0][0] = float(node.scale[0]);
+      s[1][1] = float(node.scale[1]);
+      s[2][2] = float(node.scale[2]);
+    }
+    return t * r * s;
+  }
+
+  void visitNode(int index, const glm::mat4& parent) {
+    const tinygltf::Node& node = nodeAt(index);
+    if (onPath_[size_t(index)]) fail("node hierarchy has a cycle through node " + std::to_string(index));
+    onPath_[size_t(index)] = true;
+    glm::mat4 world = parent * localMatrix(index, node);
+    if (node.mesh >= 0) addMesh(node.mesh, world);
+    else if (node.mesh < -1) fail("node " + std::to_string(index) + ": mesh index " + std::to_string(node.mesh) + " out of range");
+    auto lightExtension = node.extensions.find("KHR_lights_punctual");
+    if (lightExtension != node.extensions.end() && !content_.hasLight) readNodeLight(index, lightExtension->second, world);
+    for (int child : node.children) visitNode(child, world);
+    onPath_[size_t(index)] = false;
+  }
+
+  void readNodeLight(int nodeIndex, const tinygltf::Value& extension, const glm::mat4& world) {
+    std::string where = "node " + std::to_string(nodeIndex) + ": KHR_lights_punctual: ";
+    if (!extension.IsObject() || !extension.Has("light") || !extension.Get("light").IsNumber())
+      fail(where + "expected {\"light\": index}");
+    double lightNumber = extension.Get("light").GetNumberAsDouble();
+    if (lightNumber < 0 || lightNumber >= double(model_.lights.size()) || lightNumber != std::floor(lightNumber))
+      fail(where + "light index " + formatNumber(lightNumber) + " out of range (" + std::to_string(model_.lights.size()) +
+           " lights)");
+    const tinygltf::Light& source = model_.lights[size_t(lightNumber)];
+    where = "light " + formatNumber(lightNumber) + ": ";
+    Light light;
+    if (source.type == "point") light.type = LightType::Point;
+    else if (source.type == "spot") light.type = LightType::Spot;
+    else if (source.type == "directional") light.type = LightType::Directional;
+    else fail(where + "unknown type '" + source.type + "'");
+    if (!source.color.empty()) {
+      if (source.color.size() != 3) fail(where + "'color' must have 3 numbers");
+      for (int c = 0; c < 3; ++c) {
+        double v = source.color[size_t(c)];
+        if (!std::isfinite(v) || v < 0.0) fail(where + "'color' components must be finite and >= 0");
+        light.color[c] = float(v);
+      }
+    }
+    if (!std::isfinite(source.intensity) || source.intensity < 0.0 || source.intensity > 1e30)
+      fail(where + "'intensity' must be finite and >= 0");
+    light.intensity = float(source.intensity);
+    if (light.type == LightType::Spot) {
+      const double degreesPerRadian = 57.295779513082321;
+      double inner = source.spot.innerConeAngle * degreesPerRadian, outer = source.spot.outerConeAngle * degreesPerRadian;
+      if (!(inner >= 0.0 && inner <= outer && outer > 0.0 && outer < 90.0))
+        fail(where + "spot cone angles must satisfy 0 <= innerConeAngle <= outerConeAngle < pi/2 (got " +
+             formatNumber(source.spot.innerConeAngle) + ", " + formatNumber(source.spot.outerConeAngle) + ")");
+      light.spotInnerDeg = float(inner);
+      light.spotOuterDeg = float(outer);
+    }
+    // glTF lights sit at the node origin and shine along the node's -Z axis.
+    light.position = glm::vec3(world * glm::vec4(0, 0, 0, 1));
+    glm::vec3 direction = glm::mat3(world) * glm::vec3(0, 0, -1);
+    float length = glm::length(direction);
+    if (!(length > 0.0f) || !std::isfinite(length) || !std::isfinite(light.position.x + light.position.y + light.position.z))
+      fail(where + "the node transform of the light is degenerate");
+    light.direction = direction / length;
+    content_.light = light;
+    content_.hasLight = true;
+  }
+
+  AccessorView viewAccessor(int index, int wantedType, const std::string& what) const {
+    std::string where = what + " accessor " + std::to_string(index) + ": ";
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      fail(what + ": accessor index " + std::to_string(index) + " out of range (" +
+           std::to_string(model_.accessors.size()) + " accessors)");
+    const tinygltf::Accessor& accessor = model_.accessors[size_t(index)];
+    if (accessor.sparse.isSparse) fail(where + "sparse accessors are not supported");
+    if (accessor.type != wantedType) fail(where + "unexpected element type");
+    size_t componentSize = 0;
+    switch (accessor.componentType) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: componentSize = 1; break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: componentSize = 2; break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: componentSize = 4; break;
+      default: fail(where + "unsupported component type " + std::to_string(accessor.componentType));
+    }
+    const size_t elementSize = componentSize * (wantedType == TINYGLTF_TYPE_VEC3 ? 3 : 1);
+    AccessorView view;
+    view.count = accessor.count;
+    view.stride = elementSize;
+    if (accessor.bufferView < 0) {  // glTF: an accessor without a buffer view reads as zeros
+      if (accessor.count > (size_t(1) << 28)) fail(where + "count too large");
+      return view;
+    }
+    if (size_t(accessor.bufferView) >= model_.bufferViews.size())
+      fail(where + "bufferView index " + std::to_string(accessor.bufferView) + " out of range");
+    const tinygltf::BufferView& bufferView = model_.bufferViews[size_t(accessor.bufferView)];
+    if (bufferView.buffer < 0 || size_t(bufferView.buffer) >= model_.buffers.size())
+      fail(where + "buffer index " + std::to_string(bufferView.buffer) + " out of range");
+    const std::vector<unsigned char>& buffer = model_.buffers[size_t(bufferView.buffer)].data;
+    if (bufferView.byteOffset > buffer.size() || bufferView.byteLength > buffer.size() - bufferView.byteOffset)
+      fail(where + "buffer view " + std::to_string(accessor.bufferView) + " (offset " +
+           std::to_string(bufferView.byteOffset) + ", length " + std::to_string(bufferView.byteLength) +
+           ") exceeds its buffer of " + std::to_string(buffer.size()) + " bytes");
+    if (bufferView.byteStride != 0) {
+      if (bufferView.byteStride < elementSize) fail(where + "byteStride smaller than the element size");
+      view.stride = bufferView.byteStride;
+    }
+    if (accessor.count > 0) {
+      // Last byte needed: byteOffset + stride * (count - 1) + elementSize, computed without overflow.
+      size_t available = bufferView.byteLength;
+      bool fits = accessor.byteOffset <= available && elementSize <= available - accessor.byteOffset &&
+                  (accessor.count - 1) <= (available - accessor.byteOffset - elementSize) / view.stride;
+      if (!fits)
+        fail(where + std::to_string(accessor.count) + " elements at offset " + std::to_string(accessor.byteOffset) +
+             " exceed buffer view " + std::to_string(accessor.bufferView) + " (" + std::to_string(available) + " bytes)");
+    }
+    view.data = buffer.data() + bufferView.byteOffset + accessor.byteOffset;
+    return view;
+  }
+
+  std::vector<glm::vec3> readVec3(int index, const std::string& what) const {
+    AccessorView view = viewAccessor(index, TINYGLTF_TYPE_VEC3, what);
+    if (model_.accessors[size_t(index)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      fail(what + " accessor " + std::to_string(index) + ": components must be floats");
+    std::vector<glm::vec3> values(view.count, glm::vec3(0.0f));
+    if (view.data)
+      for (size_t i = 0; i < view.count; ++i) std::memcpy(&values[i], view.data + i * view.stride, sizeof(glm::vec3));
+    return values;
+  }
+
+  std::vector<uint32_t> readIndices(int index, const std::string& what) const {
+    AccessorView view = viewAccessor(index, TINYGLTF_TYPE_SCALAR, what);
+    int componentType = model_.accessors[size_t(index)].componentType;
+    if (componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      fail(what + " accessor " + std::to_string(index) + ": indices must be unsigned integers");
+    std::vector<uint32_t> values(view.count, 0);
+    if (!view.data) return values;
+    for (size_t i = 0; i < view.count; ++i) {
+      const unsigned char* element = view.data + i * view.stride;
+      if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+        values[i] = element[0];
+      } else if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+        uint16_t v;
+        std::memcpy(&v, element, sizeof v);
+        values[i] = v;
+      } else {
+        std::memcpy(&values[i], element, sizeof(uint32_t));
+      }
+    }
+    return values;
+  }
+
+  glm::vec3 materialAlbedo(int materialIndex, const std::string& what) const {
+    if (materialIndex < 0) return Mesh().albedo;
+    if (size_t(materialIndex) >= model_.materials.size())
+      fail(what + ": material index " + std::to_string(materialIndex) + " out of range");
+    const std::vector<double>& factor = model_.materials[size_t(materialIndex)].pbrMetallicRoughness.baseColorFactor;
+    if (factor.size() != 4) fail("material " + std::to_string(materialIndex) + ": baseColorFactor must have 4 numbers");
+    glm::vec3 albedo;
+    for (int c = 0; c < 3; ++c) {
+      double v = factor[size_t(c)];
+      if (!(v >= 0.0 && v <= 1.0))
+        fail("material " + std::to_string(materialIndex) + ": baseColorFactor components must be in [0, 1]");
+      albedo[c] = float(v);
+    }
+    return albedo;
+  }
+
+  void addMesh(int meshIndex, const glm::mat4& world) {
+    if (size_t(meshIndex) >= model_.meshes.size())
+      fail("mesh index " + std::to_string(meshIndex) + " out of range (" + std::to_string(model_.meshes.size()) + " meshes)");
+    const tinygltf::Mesh& source = model_.meshes[size_t(meshIndex)];
+    for (size_t p = 0; p < source.primitives.size(); ++p) {
+      const tinygltf::Primitive& primitive = source.primitives[p];
+      std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
+      int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+      if (mode < TINYGLTF_MODE_TRIANGLES) continue;  // points and lines have no surface
+      if (mode > TINYGLTF_MODE_TRIANGLE_FAN) fail(what + ": unknown mode " + std::to_string(mode));
+      auto positionAttribute = primitive.attributes.find("POSITION");
+      if (positionAttribute == primitive.attributes.end()) fail(what + ": no POSITION attribute");
+
+      Mesh mesh;
+      mesh.name = (source.name.empty() ? "mesh" + std::to_string(meshIndex) : source.name) + "/" + std::to_string(p);
+      mesh.albedo = materialAlbedo(primitive.material, what);
+      mesh.positions = readVec3(positionAttribute->second, what + " POSITION");
+      auto normalAttribute = primitive.attributes.find("NORMAL");
+      if (normalAttribute != primitive.attributes.end()) {
+        mesh.normals = readVec3(normalAttribute->second, what + " NORMAL");
+        if (mesh.normals.size() != mesh.positions.size()) fail(what + ": NORMAL and POSITION counts differ");
+      }
+      std::vector<uint32_t> order;
+      if (primitive.indices >= 0) {
+        order = readIndices(primitive.indices, what + " indices");
+        for (uint32_t i : order)
+          if (i >= mesh.positions.size())
+            fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(mesh.positions.size()) +
+                 " vertices)");
+      } else {
+        order.resize(mesh.positions.size());
+        for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
+      }
+      mesh.indices = assembleTriangles(order, mode);
+      transformMesh(mesh, world);
+      if (mesh.normals.empty()) computeSmoothNormals(mesh);
+      content_.meshes.push_back(std::move(mesh));
+    }
+  }
+
+  // Triangle list from a vertex order (glTF 2.0 spec, section 3.7.2.1).
+  static std::vector<uint32_t> assembleTriangles(const std::vector<uint32_t>& v, int mode) {
+    std::vector<uint32_t> triangles;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      triangles.assign(v.begin(), v.begin() + long(v.size() / 3 * 3));
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t i = 0; i + 2 < v.size(); ++i)
+        triangles.insert(triangles.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+    } else {  // fan
+      for (size_t i = 0; i + 2 < v.size(); ++i) triangles.insert(triangles.end(), {v[i + 1], v[i + 2], v[0]});
+    }
+    return triangles;
+  }
+
+  std::string path_;
+  const tinygltf::Model& model_;
+  std::vector<bool> onPath_;
+  GltfContent content_;
+};
+
+bool isDataUri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
+
+}  // namespace
+
+GltfContent loadGltf(const std::string& path, const glm::mat4& transform, ContentHasher* hasher) {
+  auto fail = [&](const std::string& problem) { throwSceneError(path, "", problem); };
+  std::string bytes, error;
+  if (!readFile(path, bytes, error)) fail("cannot open glTF file: " + error);
+  if (bytes.size() > size_t(std::numeric_limits<unsigned int>::max())) fail("file too large");
+  if (hasher) hasher->addBlock(bytes);
+
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(skipImage, nullptr);
+  tinygltf::Model model;
+  std::string loadError, warning;
+  std::string baseDir = std::filesystem::path(path).parent_path().string();
+  bool isBinary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  bool loaded = false;
+  try {
+    loaded = isBinary ? loader.LoadBinaryFromMemory(&model, &loadError, &warning,
+                                                    reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                    unsigned(bytes.size()), baseDir)
+                      : loader.LoadASCIIFromString(&model, &loadError, &warning, bytes.data(), unsigned(bytes.size()),
+                                                   baseDir);
+  } catch (const std::exception& e) {
+    loadError = e.what();
+  }
+  if (!loaded) fail(std::string(isBinary ? "invalid glTF binary: " : "invalid glTF: ") +
+                    (loadError.empty() ? "unknown error" : oneLine(withoutExceptionTags(loadError))));
+
+  if (hasher) {
+    for (const tinygltf::Buffer& buffer : model.buffers)
+      if (!buffer.uri.empty() && !isDataUri(buffer.uri)) hasher->addBlock(buffer.data.data(), buffer.data.size());
+  }
+  return GltfReader(path, model).read(transform);
+}
+
+}  // namespace vs

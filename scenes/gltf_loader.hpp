@@ -1,0 +1,26 @@
+// glTF 2.0 (.gltf with embedded or external buffers, and .glb) geometry and KHR_lights_punctual lights.
+#pragma once
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+#include "scenes/content_hash.hpp"
+#include "scenes/scene.hpp"
+
+namespace vs {
+
+struct GltfContent {
+  // One mesh per triangle primitive instance, in world space. Not yet sanitised: degenerate
+  // triangles are still present (the scene loader removes and counts them).
+  std::vector<Mesh> meshes;
+  bool hasLight = false;  // the first KHR_lights_punctual light met in the node hierarchy
+  Light light;
+};
+
+// Loads the default scene (or the first scene, or all root nodes when there is none), applying node
+// transforms and then `transform`. The format (.gltf JSON or .glb binary) is recognised by content.
+// When `hasher` is given, the file and its external buffers are added to it.
+// Throws SceneError "<path>: <problem>" on a missing file, malformed content, an out-of-range index
+// or an accessor that does not fit its buffer.
+GltfContent loadGltf(const std::string& path, const glm::mat4& transform, ContentHasher* hasher = nullptr);
+
+}  // namespace vs

@@ -1,0 +1,91 @@
+// Scene description shared by the harness and every method: geometry, camera, one light, medium.
+#pragma once
+#include <glm/glm.hpp>
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vs {
+
+// Any problem with scene input (missing file, malformed JSON/glTF, out-of-range value).
+// what() is one line that names the file and the problem.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Mesh {
+  std::vector<glm::vec3> positions;  // world space
+  std::vector<glm::vec3> normals;    // same size as positions, unit length
+  std::vector<uint32_t> indices;     // triangle list
+  glm::vec3 albedo{0.8f};            // Lambert albedo (glTF baseColorFactor rgb)
+  std::string name;
+  size_t triangleCount() const { return indices.size() / 3; }
+};
+
+struct Camera {
+  glm::vec3 position{0, 1, 5};
+  glm::vec3 target{0, 1, 0};
+  glm::vec3 up{0, 1, 0};
+  float fovYDeg = 60.0f;  // vertical field of view
+  float nearZ = 0.1f;
+  float farZ = 100.0f;
+};
+
+enum class LightType { Point, Spot, Directional };
+
+struct Light {
+  LightType type = LightType::Point;
+  glm::vec3 position{0, 5, 0};       // point and spot
+  glm::vec3 direction{0, -1, 0};     // spot and directional: direction the light travels (unit)
+  glm::vec3 color{1.0f};
+  float intensity = 100.0f;          // point/spot: radiant intensity I (W/sr); directional: irradiance E
+  float spotInnerDeg = 20.0f;        // spot: full intensity inside this half-angle
+  float spotOuterDeg = 30.0f;        // spot: zero outside this half-angle (also the shadow-map fov)
+  // Optional light texture (gobo), linear RGB, row 0 = top. Projection: spot = through the cone,
+  // directional = orthographic over the shadow-map extent, point = latitude-longitude around the light.
+  std::string texturePath;
+  int textureWidth = 0, textureHeight = 0;
+  std::vector<float> textureRGB;     // width*height*3
+  bool hasTexture() const { return !textureRGB.empty(); }
+};
+
+enum class Phase { Isotropic, HenyeyGreenstein };
+
+struct Medium {
+  float sigmaS = 0.0f;  // scattering coefficient, 1/scene unit
+  float sigmaA = 0.0f;  // absorption coefficient, 1/scene unit
+  Phase phase = Phase::Isotropic;
+  float g = 0.0f;       // Henyey-Greenstein asymmetry in (-1, 1)
+  float sigmaT() const { return sigmaS + sigmaA; }
+};
+
+struct Scene {
+  std::string name;        // stable name (built-in) or file stem
+  std::string source;      // file path or "builtin:NAME"
+  std::string description; // one line for `vshadow list`
+  std::vector<Mesh> meshes;
+  Camera camera;
+  Light light;
+  Medium medium;
+  std::string contentHash; // hash of the scene's defining text and referenced files (cache keys)
+  size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
+
+  size_t triangleCount() const;
+  // Axis-aligned bounds of all geometry; a unit box around the origin when empty.
+  void bounds(glm::vec3& lo, glm::vec3& hi) const;
+};
+
+// Loads a scene by built-in name (see builtinSceneNames) or by path to a .json file.
+// Throws SceneError with a one-line message on any problem.
+Scene loadScene(const std::string& nameOrPath);
+// Parses scene JSON text; baseDir resolves relative glTF/texture paths; origin names it in errors.
+Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin);
+
+struct BuiltinSceneInfo {
+  std::string name, description;
+};
+std::vector<BuiltinSceneInfo> builtinScenes();
+
+}  // namespace vs

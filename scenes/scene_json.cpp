@@ -1,0 +1,339 @@
+// Scene JSON parsing and loading (format: scenes/README.md).
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include "scenes/builtin_scenes.hpp"
+#include "scenes/content_hash.hpp"
+#include "scenes/gltf_loader.hpp"
+#include "scenes/json_reader.hpp"
+#include "scenes/mesh_utils.hpp"
+#include "scenes/procedural.hpp"
+#include "scenes/scene.hpp"
+
+namespace vs {
+
+size_t Scene::triangleCount() const {
+  size_t total = 0;
+  for (const Mesh& mesh : meshes) total += mesh.triangleCount();
+  return total;
+}
+
+void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
+  lo = glm::vec3(std::numeric_limits<float>::max());
+  hi = glm::vec3(std::numeric_limits<float>::lowest());
+  bool any = false;
+  for (const Mesh& mesh : meshes) {
+    for (const glm::vec3& p : mesh.positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+      any = true;
+    }
+  }
+  if (!any) {  // unit box (side 1) centred on the origin
+    lo = glm::vec3(-0.5f);
+    hi = glm::vec3(0.5f);
+  }
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kBuiltinPrefix = "builtin:";
+
+std::string resolvePath(const std::string& baseDir, const std::string& path) {
+  fs::path p(path);
+  if (p.is_absolute() || baseDir.empty()) return p.lexically_normal().string();
+  return (fs::path(baseDir) / p).lexically_normal().string();
+}
+
+std::string lowercase(std::string text) {
+  for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+// Reads a light texture as linear RGB (row 0 = top). sRGB-encoded files are linearised.
+void loadLightTexture(Light& light, const std::string& path, const JsonLocation& at, ContentHasher& hasher) {
+  std::string bytes, error;
+  if (!readFile(path, bytes, error)) at.fail("cannot open light texture '" + path + "': " + error);
+  hasher.addBlock(bytes);
+  auto input = OIIO::ImageInput::open(path);
+  if (!input) at.fail("cannot read light texture '" + path + "': " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = input->spec();
+  const int width = spec.width, height = spec.height, channels = spec.nchannels;
+  if (width <= 0 || height <= 0 || channels <= 0 || spec.depth > 1)
+    at.fail("light texture '" + path + "' is not a 2D image");
+  if (size_t(width) * size_t(height) > (size_t(1) << 26)) at.fail("light texture '" + path + "' is too large");
+  std::vector<float> pixels(size_t(width) * size_t(height) * size_t(channels));
+  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
+    at.fail("cannot read light texture '" + path + "': " + input->geterror());
+  std::string colorSpace = lowercase(spec.get_string_attribute("oiio:ColorSpace"));
+  bool isSrgb = colorSpace == "srgb" || (colorSpace.empty() && spec.format == OIIO::TypeDesc::UINT8);
+
+  light.textureWidth = width;
+  light.textureHeight = height;
+  light.textureRGB.resize(size_t(width) * size_t(height) * 3);
+  for (size_t pixel = 0; pixel < size_t(width) * size_t(height); ++pixel) {
+    for (int c = 0; c < 3; ++c) {
+      float v = pixels[pixel * size_t(channels) + size_t(channels >= 3 ? c : 0)];  // grey: replicate
+      if (!std::isfinite(v) || v < 0.0f)
+        at.fail("light texture '" + path + "' has negative or non-finite pixel values");
+      light.textureRGB[pixel * 3 + size_t(c)] = isSrgb ? srgbToLinear(v) : v;
+    }
+  }
+}
+
+Camera readCamera(ObjectReader camera) {
+  Camera c;
+  camera.declare({"position", "target", "up", "fov_y_deg", "near", "far"});
+  c.position = camera.vec3("position", Range::any());
+  c.target = camera.vec3("target", Range::any());
+  c.up = camera.vec3("up", glm::vec3(0, 1, 0), Range::any());
+  c.fovYDeg = float(camera.number("fov_y_deg", 60.0, Range::open(0.0, 180.0)));
+  c.nearZ = float(camera.number("near", 0.1, Range::above(0.0)));
+  c.farZ = float(camera.number("far", 100.0, Range::above(c.nearZ)));
+  camera.finish();
+  glm::vec3 view = c.target - c.position;
+  if (!(glm::length(view) > 0.0f)) camera.fail("target", "must differ from position");
+  if (!(glm::length(c.up) > 0.0f)) camera.fail("up", "must not be zero");
+  c.up = glm::normalize(c.up);
+  if (glm::length(glm::cross(glm::normalize(view), c.up)) < 1e-4f)
+    camera.fail("up", "must not be parallel to the viewing direction");
+  return c;
+}
+
+// Direction from either "direction" or "target" (which then needs "position").
+glm::vec3 readLightDirection(ObjectReader& light, const glm::vec3* position) {
+  bool hasDirection = light.has("direction"), hasTarget = light.has("target");
+  if (hasDirection && hasTarget) light.fail("target", "give either direction or target, not both");
+  if (!hasDirection && !hasTarget) {
+    light.failOnMisspellingOf("direction");
+    light.failOnMisspellingOf("target");
+    light.fail("direction", "missing required key (or give target)");
+  }
+  glm::vec3 direction;
+  if (hasDirection) {
+    direction = light.vec3("direction", Range::any());
+    if (!(glm::length(direction) > 0.0f)) light.fail("direction", "must not be zero");
+  } else {
+    glm::vec3 target = light.vec3("target", Range::any());
+    if (!position) light.fail("position", "missing required key (needed with target)");
+    direction = target - *position;
+    if (!(glm::length(direction) > 0.0f)) light.fail("target", "must differ from position");
+  }
+  return glm::normalize(direction);
+}
+
+Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& hasher) {
+  Light l;
+  light.declare({"type", "position", "direction", "target", "color", "intensity", "spot_inner_deg", "spot_outer_deg",
+                 "texture"});
+  light.required("type");
+  std::string type = light.choice("type", {"point", "spot", "directional"}, "");
+  l.type = type == "point" ? LightType::Point : type == "spot" ? LightType::Spot : LightType::Directional;
+  l.color = light.vec3("color", glm::vec3(1.0f), Range::atLeast(0.0));
+  l.intensity = float(light.number("intensity", Range::atLeast(0.0)));
+  const std::string spotOnly = "only used by spot lights";
+  if (l.type == LightType::Point) {
+    l.position = light.vec3("position", Range::any());
+    light.forbid("direction", "not used by point lights");
+    light.forbid("target", "not used by point lights");
+  } else if (l.type == LightType::Spot) {
+    l.position = light.vec3("position", Range::any());
+    l.direction = readLightDirection(light, &l.position);
+    l.spotOuterDeg = float(light.number("spot_outer_deg", 30.0, Range::open(0.0, 90.0)));
+    l.spotInnerDeg = float(light.number("spot_inner_deg", std::min(20.0, double(l.spotOuterDeg)),
+                                        Range::closedOpen(0.0, 90.0)));
+    if (l.spotInnerDeg > l.spotOuterDeg)
+      light.fail("spot_inner_deg", "must be <= spot_outer_deg (" + formatNumber(l.spotOuterDeg) + ")");
+  } else {
+    glm::vec3 position;
+    bool hasPosition = light.has("target") && light.has("position");
+    if (hasPosition) position = light.vec3("position", Range::any());
+    else light.forbid("position", "directional lights have no position (it is only used together with target)");
+    l.direction = readLightDirection(light, hasPosition ? &position : nullptr);
+  }
+  if (l.type != LightType::Spot) {
+    light.forbid("spot_inner_deg", spotOnly);
+    light.forbid("spot_outer_deg", spotOnly);
+  }
+  const bool hasTexture = light.has("texture");
+  std::string texture = light.string("texture", "");
+  if (hasTexture && texture.empty()) light.fail("texture", "must not be empty");
+  light.finish();
+  if (hasTexture) {
+    l.texturePath = resolvePath(baseDir, texture);
+    loadLightTexture(l, l.texturePath, light.locationOf("texture"), hasher);
+  }
+  return l;
+}
+
+Medium readMedium(ObjectReader medium) {
+  Medium m;
+  medium.declare({"sigma_s", "sigma_a", "phase", "g"});
+  m.sigmaS = float(medium.number("sigma_s", Range::atLeast(0.0)));
+  m.sigmaA = float(medium.number("sigma_a", Range::atLeast(0.0)));
+  std::string phase = medium.choice("phase", {"isotropic", "hg"}, "isotropic");
+  m.phase = phase == "hg" ? Phase::HenyeyGreenstein : Phase::Isotropic;
+  if (m.phase == Phase::HenyeyGreenstein) m.g = float(medium.number("g", 0.0, Range::open(-1.0, 1.0)));
+  else medium.forbid("g", "only used with \"phase\": \"hg\"");
+  medium.finish();
+  return m;
+}
+
+// Translation * rotation about Y * uniform scale.
+glm::mat4 placement(const glm::vec3& translate, float scale, float rotateYDeg) {
+  float angle = glm::radians(rotateYDeg), c = std::cos(angle), s = std::sin(angle);
+  glm::mat4 m(1.0f);
+  m[0] = glm::vec4(c * scale, 0, -s * scale, 0);
+  m[1] = glm::vec4(0, scale, 0, 0);
+  m[2] = glm::vec4(s * scale, 0, c * scale, 0);
+  m[3] = glm::vec4(translate, 1.0f);
+  return m;
+}
+
+struct GeometryResult {
+  std::vector<Mesh> meshes;
+  bool usedGenerator = false;
+  bool hasGltfLight = false;
+  Light gltfLight;
+};
+
+void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher, GeometryResult& out) {
+  const std::string& origin = entry.location().origin;
+  entry.declare({"name", "generator", "params", "albedo", "gltf", "translate", "scale", "rotate_y_deg"});
+  bool isGenerator = entry.has("generator"), isGltf = entry.has("gltf");
+  std::string name = entry.string("name", "");
+  const std::string gltfOnly = "only used by glTF entries", generatorOnly = "only used by generator entries";
+  if (isGenerator && isGltf) entry.fail("gltf", "an entry has either 'generator' or 'gltf', not both");
+  if (isGenerator) {
+    std::string generator = entry.string("generator");
+    const Json* params = entry.optional("params");
+    glm::vec3 albedo = entry.vec3("albedo", Mesh().albedo, Range::closed(0.0, 1.0));
+    for (const char* key : {"translate", "scale", "rotate_y_deg"}) entry.forbid(key, gltfOnly);
+    entry.finish();
+    std::vector<Mesh> meshes = generateMeshes(generator, params ? *params : Json::object(), origin,
+                                              entry.locationOf("generator").path, entry.locationOf("params").path);
+    for (Mesh& mesh : meshes) {
+      mesh.albedo = albedo;
+      if (!name.empty()) mesh.name = name;
+      out.meshes.push_back(std::move(mesh));
+    }
+    out.usedGenerator = true;
+    return;
+  }
+  if (isGltf) {
+    std::string file = entry.string("gltf");
+    glm::vec3 translate = entry.vec3("translate", glm::vec3(0.0f), Range::any());
+    float scale = float(entry.number("scale", 1.0, Range::above(0.0)));
+    float rotateYDeg = float(entry.number("rotate_y_deg", 0.0, Range::any()));
+    entry.forbid("params", generatorOnly);
+    entry.forbid("albedo", "glTF entries take the albedo from their materials (baseColorFactor)");
+    entry.finish();
+    GltfContent content;
+    try {
+      content = loadGltf(resolvePath(baseDir, file), placement(translate, scale, rotateYDeg), &hasher);
+    } catch (const SceneError& e) {
+      entry.fail("gltf", e.what());
+    }
+    for (Mesh& mesh : content.meshes) {
+      if (!name.empty()) mesh.name = name + "/" + mesh.name;
+      out.meshes.push_back(std::move(mesh));
+    }
+    if (content.hasLight && !out.hasGltfLight) {
+      out.hasGltfLight = true;
+      out.gltfLight = content.light;
+    }
+    return;
+  }
+  entry.finish();  // reports a misspelt "generator"/"gltf" first
+  entry.location().fail("needs a 'generator' or a 'gltf' key");
+}
+
+std::string sceneNameFromOrigin(const std::string& origin) {
+  if (origin.rfind(kBuiltinPrefix, 0) == 0) return origin.substr(std::string(kBuiltinPrefix).size());
+  return fs::path(origin).stem().string();
+}
+
+}  // namespace
+
+Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin) {
+  Json document = parseJsonStrict(text, origin);
+  ObjectReader root(document, JsonLocation{origin, ""});
+  for (const char* key : {"description", "geometry", "camera", "light", "medium"}) root.has(key);
+  root.finish();  // catch misspelt top-level keys before any heavy work
+
+  Scene scene;
+  scene.name = sceneNameFromOrigin(origin);
+  scene.source = origin;
+  ContentHasher hasher;
+  hasher.addBlock(std::string("vshadow-scene-v1"));
+  hasher.addBlock(text);
+
+  scene.description = root.string("description", "");
+  if (scene.description.find_first_of("\r\n") != std::string::npos) root.fail("description", "must be a single line");
+  scene.camera = readCamera(ObjectReader(root.required("camera"), root.locationOf("camera")));
+  if (const Json* medium = root.optional("medium")) scene.medium = readMedium(ObjectReader(*medium, root.locationOf("medium")));
+
+  const Json& geometry = root.required("geometry");
+  JsonLocation geometryAt = root.locationOf("geometry");
+  if (!geometry.is_array()) geometryAt.fail("expected an array, got " + std::string(geometry.type_name()));
+  GeometryResult result;
+  for (size_t i = 0; i < geometry.size(); ++i)
+    readGeometryEntry(ObjectReader(geometry[i], geometryAt.item(i)), baseDir, hasher, result);
+
+  // The scene JSON's light wins over a light found in its glTF files.
+  if (const Json* light = root.optional("light")) {
+    scene.light = readLight(ObjectReader(*light, root.locationOf("light")), baseDir, hasher);
+  } else if (result.hasGltfLight) {
+    scene.light = result.gltfLight;
+  } else {
+    root.fail("light", "missing required key (and no glTF file in the scene has a KHR_lights_punctual light)");
+  }
+
+  for (Mesh& mesh : result.meshes) {
+    scene.droppedTriangles += sanitizeMesh(mesh);
+    if (mesh.triangleCount() > 0) scene.meshes.push_back(std::move(mesh));
+  }
+  if (result.usedGenerator) hasher.addBlock(std::string(kProceduralVersion));
+  scene.contentHash = hasher.hex();
+  return scene;
+}
+
+Scene loadScene(const std::string& nameOrPath) {
+  for (const auto& [name, text] : builtinSceneSources()) {
+    if (name != nameOrPath) continue;
+    return parseSceneJson(text, "", kBuiltinPrefix + name);
+  }
+  std::string text, error;
+  if (!readFile(nameOrPath, text, error)) {
+    std::string hint;
+    bool looksLikeName = nameOrPath.find('/') == std::string::npos && fs::path(nameOrPath).extension() != ".json";
+    if (looksLikeName) {
+      std::vector<std::string> names;
+      for (const auto& source : builtinSceneSources()) names.push_back(source.first);
+      std::string list;
+      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+      hint = "; it is not a built-in scene either" + didYouMean(nameOrPath, names) + " (built-in: " + list + ")";
+    }
+    throwSceneError(nameOrPath, "", "cannot open scene file: " + error + hint);
+  }
+  return parseSceneJson(text, fs::path(nameOrPath).parent_path().string(), nameOrPath);
+}
+
+std::vector<BuiltinSceneInfo> builtinScenes() {
+  std::vector<BuiltinSceneInfo> scenes;
+  for (const auto& [name, text] : builtinSceneSources()) {
+    Json document = parseJsonStrict(text, kBuiltinPrefix + name);
+    const Json* description = document.is_object() && document.contains("description") ? &document["description"] : nullptr;
+    scenes.push_back({name, description && description->is_string() ? description->get<std::string>() : ""});
+  }
+  return scenes;
+}
+
+}  // namespace vs

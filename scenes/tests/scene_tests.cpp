@@ -1,0 +1,685 @@
+// Tests for scene loading: JSON validation, built-in scenes, generators, glTF, degenerate input, hashes.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+#include "scenes/builtin_scenes.hpp"
+#include "scenes/content_hash.hpp"
+#include "scenes/gltf_loader.hpp"
+#include "scenes/mesh_utils.hpp"
+#include "scenes/procedural.hpp"
+#include "scenes/scene.hpp"
+
+namespace fs = std::filesystem;
+using vs::Scene;
+using vs::SceneError;
+
+namespace {
+
+// A fresh directory per test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    static int counter = 0;
+    path_ = fs::temp_directory_path() /
+            ("vs_scene_tests_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  std::string write(const std::string& name, const std::string& contents) const {
+    fs::path target = path_ / name;
+    fs::create_directories(target.parent_path());
+    std::ofstream(target, std::ios::binary) << contents;
+    return target.string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+const char* kCamera = R"("camera": {"position": [0, 2, 6], "target": [0, 1, 0]})";
+const char* kPointLight = R"("light": {"type": "point", "position": [0, 5, 0], "intensity": 50})";
+
+// A scene with the standard camera; an empty `light` leaves the light out.
+std::string sceneText(const std::string& geometry, const std::string& light = kPointLight,
+                      const std::string& extra = "") {
+  std::string text = std::string("{\n  \"geometry\": [") + geometry + "],\n  " + kCamera;
+  if (!light.empty()) text += ",\n  " + light;
+  if (!extra.empty()) text += ",\n  " + extra;
+  return text + "\n}\n";
+}
+
+Scene parse(const std::string& text) { return vs::parseSceneJson(text, "", "test.json"); }
+
+// Writes `text` to a file, loads it and returns the SceneError message ("" when it loads).
+std::string loadError(const TempDir& dir, const std::string& text, const std::string& name = "broken_scene.json") {
+  std::string path = dir.write(name, text);
+  try {
+    vs::loadScene(path);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Every SceneError must be one line naming the file.
+void expectErrorMentions(const std::string& message, const std::vector<std::string>& parts) {
+  ASSERT_FALSE(message.empty()) << "expected a SceneError";
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_NE(message.find("broken_scene.json"), std::string::npos) << message;
+  for (const std::string& part : parts) EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
+}
+
+void expectValidMesh(const vs::Mesh& mesh) {
+  ASSERT_EQ(mesh.positions.size(), mesh.normals.size());
+  ASSERT_EQ(mesh.indices.size() % 3, 0u);
+  for (uint32_t i : mesh.indices) ASSERT_LT(i, mesh.positions.size());
+  for (const glm::vec3& n : mesh.normals) ASSERT_NEAR(glm::length(n), 1.0f, 1e-4f);
+  for (const glm::vec3& p : mesh.positions) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
+}
+
+// Fraction of triangles whose counter-clockwise face normal agrees with their vertex normals.
+double windingAgreement(const vs::Mesh& mesh) {
+  size_t agree = 0;
+  for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+    const glm::vec3 &a = mesh.positions[mesh.indices[t]], &b = mesh.positions[mesh.indices[t + 1]],
+                    &c = mesh.positions[mesh.indices[t + 2]];
+    glm::vec3 n = mesh.normals[mesh.indices[t]] + mesh.normals[mesh.indices[t + 1]] + mesh.normals[mesh.indices[t + 2]];
+    if (glm::dot(glm::cross(b - a, c - a), n) > 0.0f) ++agree;
+  }
+  return mesh.indices.empty() ? 1.0 : double(agree) / double(mesh.triangleCount());
+}
+
+std::string base64(const std::vector<unsigned char>& bytes) {
+  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    size_t available = std::min<size_t>(3, bytes.size() - i);
+    uint32_t chunk = uint32_t(bytes[i]) << 16;
+    if (available > 1) chunk |= uint32_t(bytes[i + 1]) << 8;
+    if (available > 2) chunk |= bytes[i + 2];
+    out += alphabet[(chunk >> 18) & 63];
+    out += alphabet[(chunk >> 12) & 63];
+    out += available > 1 ? alphabet[(chunk >> 6) & 63] : '=';
+    out += available > 2 ? alphabet[chunk & 63] : '=';
+  }
+  return out;
+}
+
+template <class T>
+void appendRaw(std::vector<unsigned char>& bytes, const std::vector<T>& values) {
+  size_t at = bytes.size();
+  bytes.resize(at + values.size() * sizeof(T));
+  std::memcpy(bytes.data() + at, values.data(), values.size() * sizeof(T));
+}
+
+// A one-quad glTF: 4 positions (48 bytes) + 6 uint16 indices (12 bytes) = 60 bytes of buffer.
+struct QuadGltf {
+  std::vector<unsigned char> buffer;
+  QuadGltf() {
+    appendRaw(buffer, std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
+    appendRaw(buffer, std::vector<uint16_t>{0, 1, 2, 0, 2, 3});
+  }
+  // bufferUri: "" for a GLB BIN chunk; lightJson: the KHR_lights_punctual light object or "".
+  std::string json(const std::string& bufferUri, const std::string& lightJson, const std::string& nodeTransform,
+                   size_t indexCount = 6, int indexAccessor = 1) const {
+    std::string uriField = bufferUri.empty() ? "" : "\"uri\": \"" + bufferUri + "\", ";
+    std::string lightNode = lightJson.empty() ? ""
+                                              : R"(, {"translation": [1, 2, 3], "rotation": [-0.7071068, 0, 0, 0.7071068],
+                   "extensions": {"KHR_lights_punctual": {"light": 0}}})";
+    std::string lightExtension = lightJson.empty() ? "" : R"(, "extensions": {"KHR_lights_punctual": {"lights": [)" + lightJson + "]}}";
+    return R"({"asset": {"version": "2.0"}, "scene": 0,
+      "scenes": [{"nodes": [0)" + std::string(lightJson.empty() ? "" : ", 1") + R"(]}],
+      "nodes": [{"mesh": 0)" + nodeTransform + "}" + lightNode + R"(],
+      "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0}, "indices": )" +
+           std::to_string(indexAccessor) + R"(, "material": 0}]}],
+      "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1.0]}}],
+      "buffers": [{)" + uriField + R"("byteLength": 60}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+      "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+        {"bufferView": 1, "componentType": 5123, "count": )" + std::to_string(indexCount) + R"(, "type": "SCALAR"}]
+      )" + lightExtension + "}";
+  }
+  std::string dataUri() const { return "data:application/octet-stream;base64," + base64(buffer); }
+};
+
+std::vector<unsigned char> makeGlb(std::string json, std::vector<unsigned char> bin) {
+  while (json.size() % 4) json += ' ';
+  while (bin.size() % 4) bin.push_back(0);
+  std::vector<unsigned char> out;
+  auto put32 = [&](uint32_t v) { appendRaw(out, std::vector<uint32_t>{v}); };
+  put32(0x46546C67);  // "glTF"
+  put32(2);
+  put32(uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+  put32(uint32_t(json.size()));
+  put32(0x4E4F534A);  // "JSON"
+  out.insert(out.end(), json.begin(), json.end());
+  put32(uint32_t(bin.size()));
+  put32(0x004E4942);  // "BIN\0"
+  out.insert(out.end(), bin.begin(), bin.end());
+  return out;
+}
+
+bool lightInView(const Scene& scene) {
+  const vs::Camera& c = scene.camera;
+  glm::vec3 forward = glm::normalize(c.target - c.position);
+  glm::vec3 toLight = scene.light.type == vs::LightType::Directional ? -scene.light.direction
+                                                                     : scene.light.position - c.position;
+  toLight = glm::normalize(toLight);
+  float angle = glm::degrees(std::acos(glm::clamp(glm::dot(forward, toLight), -1.0f, 1.0f)));
+  return angle < 0.5f * c.fovYDeg;  // inside the cone of the vertical field of view
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Valid scenes
+
+TEST(SceneJson, ParsesAllSections) {
+  Scene scene = parse(R"({
+    "description": "unit test",
+    "geometry": [{"generator": "sphere", "params": {"center": [0, 1, 0], "radius": 1, "segments": 16}, "albedo": [0.5, 0.6, 0.7]}],
+    "camera": {"position": [0, 2, 6], "target": [0, 1, 0], "up": [0, 2, 0], "fov_y_deg": 45, "near": 0.5, "far": 80},
+    "light": {"type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "color": [1, 0.5, 0.25], "intensity": 100,
+              "spot_inner_deg": 10, "spot_outer_deg": 40},
+    "medium": {"sigma_s": 0.05, "sigma_a": 0.01, "phase": "hg", "g": 0.3}
+  })");
+  EXPECT_EQ(scene.name, "test");
+  EXPECT_EQ(scene.source, "test.json");
+  EXPECT_EQ(scene.description, "unit test");
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  EXPECT_EQ(scene.triangleCount(), 2u * 16u * 7u);  // segments 16, rings default 8
+  EXPECT_EQ(scene.meshes[0].albedo, glm::vec3(0.5f, 0.6f, 0.7f));
+  EXPECT_FLOAT_EQ(scene.camera.fovYDeg, 45.0f);
+  EXPECT_FLOAT_EQ(scene.camera.nearZ, 0.5f);
+  EXPECT_FLOAT_EQ(scene.camera.farZ, 80.0f);
+  EXPECT_EQ(scene.camera.up, glm::vec3(0, 1, 0));
+  EXPECT_EQ(scene.light.type, vs::LightType::Spot);
+  EXPECT_NEAR(glm::distance(scene.light.direction, glm::vec3(0, -1, 0)), 0.0f, 1e-6f);
+  EXPECT_EQ(scene.light.color, glm::vec3(1, 0.5f, 0.25f));
+  EXPECT_FLOAT_EQ(scene.light.spotInnerDeg, 10.0f);
+  EXPECT_FLOAT_EQ(scene.light.spotOuterDeg, 40.0f);
+  EXPECT_FALSE(scene.light.hasTexture());
+  EXPECT_EQ(scene.medium.phase, vs::Phase::HenyeyGreenstein);
+  EXPECT_FLOAT_EQ(scene.medium.sigmaT(), 0.06f);
+  EXPECT_FLOAT_EQ(scene.medium.g, 0.3f);
+  EXPECT_EQ(scene.droppedTriangles, 0u);
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  EXPECT_NEAR(lo.y, 0.0f, 1e-5f);
+  EXPECT_NEAR(hi.y, 2.0f, 1e-5f);
+}
+
+TEST(SceneJson, EmptyGeometryAndNoMediumAreLegal) {
+  Scene scene = parse(sceneText(""));
+  EXPECT_TRUE(scene.meshes.empty());
+  EXPECT_EQ(scene.triangleCount(), 0u);
+  EXPECT_EQ(scene.medium.sigmaT(), 0.0f);
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  EXPECT_EQ(lo, glm::vec3(-0.5f));
+  EXPECT_EQ(hi, glm::vec3(0.5f));
+}
+
+TEST(SceneJson, DirectionalLightFromDirectionOrTarget) {
+  Scene a = parse(sceneText("", R"("light": {"type": "directional", "direction": [0, -2, 0], "intensity": 3})"));
+  EXPECT_EQ(a.light.type, vs::LightType::Directional);
+  EXPECT_EQ(a.light.direction, glm::vec3(0, -1, 0));
+  Scene b = parse(sceneText("", R"("light": {"type": "directional", "position": [0, 4, 0], "target": [4, 0, 0], "intensity": 3})"));
+  EXPECT_NEAR(glm::distance(b.light.direction, glm::normalize(glm::vec3(1, -1, 0))), 0.0f, 1e-6f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Built-in scenes
+
+TEST(BuiltinScenes, AllLoadWithTheirStatedSizes) {
+  std::vector<std::string> names;
+  for (const vs::BuiltinSceneInfo& info : vs::builtinScenes()) {
+    names.push_back(info.name);
+    EXPECT_FALSE(info.description.empty()) << info.name;
+    Scene scene = vs::loadScene(info.name);
+    EXPECT_EQ(scene.name, info.name);
+    EXPECT_EQ(scene.source, "builtin:" + info.name);
+    EXPECT_EQ(scene.description, info.description);
+    EXPECT_GT(scene.triangleCount(), 0u) << info.name;
+    EXPECT_EQ(scene.droppedTriangles, 0u) << info.name;
+    EXPECT_GT(scene.medium.sigmaS, 0.0f) << info.name;
+    EXPECT_EQ(scene.contentHash.size(), 16u);
+    for (const vs::Mesh& mesh : scene.meshes) expectValidMesh(mesh);
+  }
+  for (const char* expected : {"spheres", "room", "fence", "trees", "terrain"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+
+  Scene spheres = vs::loadScene("spheres");
+  EXPECT_LE(spheres.triangleCount(), 5000u);
+  EXPECT_EQ(spheres.light.type, vs::LightType::Point);
+  EXPECT_TRUE(lightInView(spheres)) << "the spheres scene must have its epipole on screen";
+
+  auto start = std::chrono::steady_clock::now();
+  Scene room = vs::loadScene("room");
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(room.triangleCount(), 100000u);
+  EXPECT_EQ(room.light.type, vs::LightType::Point);
+  EXPECT_TRUE(lightInView(room));
+  EXPECT_LT(seconds, 2.0);  // about 0.01 s optimised; generous for debug/sanitizer builds
+
+  EXPECT_EQ(vs::loadScene("fence").light.type, vs::LightType::Spot);
+  EXPECT_EQ(vs::loadScene("trees").light.type, vs::LightType::Directional);
+  EXPECT_EQ(vs::loadScene("terrain").light.type, vs::LightType::Directional);
+}
+
+TEST(BuiltinScenes, LightIsInsideTheRoom) {
+  Scene room = vs::loadScene("room");
+  glm::vec3 lo, hi;
+  room.bounds(lo, hi);
+  EXPECT_TRUE(glm::all(glm::greaterThan(room.light.position, lo)) && glm::all(glm::lessThan(room.light.position, hi)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors: one line, naming the file and the JSON path
+
+TEST(SceneErrors, UnknownKeys) {
+  TempDir dir;
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0, 5, 0], "intensty": 5})")),
+                      {"light.intensty", "unknown key", "did you mean 'intensity'"});
+  expectErrorMentions(loadError(dir, sceneText("") + "x"), {"malformed JSON"});
+  expectErrorMentions(loadError(dir, R"({"geometry": [], "camera": {"position": [0,0,1], "target": [0,0,0]},
+                                       "lihgt": {"type": "point", "position": [0,1,0], "intensity": 1}})"),
+                      {"lihgt", "unknown key", "did you mean 'light'"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "spot", "position": [0,5,0], "intensity": 5, "directon": [0,-1,0]})")),
+                      {"light.directon", "did you mean 'direction'"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "sphere", "params": {"radus": 1}})")),
+                      {"geometry[0].params.radus", "did you mean 'radius'"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "spehre"})")),
+                      {"geometry[0].generator", "unknown generator", "did you mean 'sphere'"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generater": "sphere"})")), {"geometry[0].generater"});
+  expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("medium": {"sigma_s": 0.1, "sigma_a": 0, "g": 0.5})")),
+                      {"medium.g", "hg"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0,5,0], "intensity": 5, "spot_outer_deg": 30})")),
+                      {"light.spot_outer_deg", "spot"});
+}
+
+TEST(SceneErrors, MissingRequiredKeys) {
+  TempDir dir;
+  expectErrorMentions(loadError(dir, R"({"geometry": [], "light": {"type": "point", "position": [0,1,0], "intensity": 1}})"),
+                      {"camera", "missing required key"});
+  expectErrorMentions(loadError(dir, R"({"geometry": [], "camera": {"position": [0,0,1], "target": [0,0,0]}})"),
+                      {"light", "missing required key"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0, 5, 0]})")),
+                      {"light.intensity", "missing required key"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "spot", "position": [0, 5, 0], "intensity": 1})")),
+                      {"light.direction", "missing required key"});
+  expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("medium": {"sigma_s": 0.1})")), {"medium.sigma_a"});
+  // A present valid key is never taken for a misspelling of a missing one.
+  expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("medium": {"sigma_a": 0.1})")),
+                      {"medium.sigma_s: missing required key"});
+}
+
+TEST(SceneErrors, OutOfRangeValues) {
+  TempDir dir;
+  auto withCamera = [](const std::string& camera) {
+    return R"({"geometry": [], "light": {"type": "point", "position": [0,1,0], "intensity": 1}, "camera": )" + camera + "}";
+  };
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,0,1], "target": [0,0,0], "fov_y_deg": 180})")),
+                      {"camera.fov_y_deg", "(0, 180)", "180"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,0,1], "target": [0,0,0], "near": 0})")), {"camera.near"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,0,1], "target": [0,0,0], "near": 1, "far": 0.5})")),
+                      {"camera.far"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,0,1], "target": [0,0,1]})")), {"camera.target"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,0,1], "target": [0,0,0], "up": [0,0,1]})")), {"camera.up"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,"a",1], "target": [0,0,0]})")),
+                      {"camera.position[1]", "expected a number"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,1e999,1], "target": [0,0,0]})")),
+                      {"number overflow", "line 1"});
+  expectErrorMentions(loadError(dir, withCamera(R"({"position": [0,1e39,1], "target": [0,0,0]})")),
+                      {"camera.position[1]", "single precision"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0, 5, 0], "intensity": -1})")),
+                      {"light.intensity", ">= 0"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0, 5, 0], "intensity": 1, "color": [1, -1, 1]})")),
+                      {"light.color[1]"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "spot", "position": [0, 5, 0], "direction": [0,-1,0], "intensity": 1, "spot_inner_deg": 40, "spot_outer_deg": 30})")),
+                      {"light.spot_inner_deg"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "spot", "position": [0, 5, 0], "direction": [0,-1,0], "intensity": 1, "spot_outer_deg": 90})")),
+                      {"light.spot_outer_deg"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "lamp", "position": [0, 5, 0], "intensity": 1})")),
+                      {"light.type", "lamp"});
+  expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("medium": {"sigma_s": -0.1, "sigma_a": 0})")), {"medium.sigma_s"});
+  expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("medium": {"sigma_s": 0.1, "sigma_a": 0, "phase": "hg", "g": 1})")),
+                      {"medium.g", "(-1, 1)"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "sphere", "params": {"radius": -1}})")),
+                      {"geometry[0].params.radius", "> 0"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "sphere", "params": {"segments": 2.5}})")),
+                      {"geometry[0].params.segments", "integer"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "sphere", "albedo": [0.5, 0.5, 1.5]})")),
+                      {"geometry[0].albedo[2]", "[0, 1]"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "torus", "params": {"major_radius": 1, "minor_radius": 2}})")),
+                      {"geometry[0].params.minor_radius"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "room", "params": {"size": [4, 3, 4], "window": {"wall": "+x", "size": [5, 1]}}})")),
+                      {"geometry[0].params.window", "inside"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "sphere", "params": {"segments": 8192, "rings": 8192}})")),
+                      {"geometry[0].params", "limit"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "forest", "params": {"size": [2, 2], "count": 50, "min_spacing": 1}})")),
+                      {"geometry[0].params", "could not place"});
+}
+
+TEST(SceneErrors, MalformedJsonHasLineAndColumn) {
+  TempDir dir;
+  expectErrorMentions(loadError(dir, "{\n  \"geometry\": [,]\n}\n"), {"malformed JSON", "line 2", "column"});
+  expectErrorMentions(loadError(dir, ""), {"malformed JSON"});
+  expectErrorMentions(loadError(dir, "[1, 2]"), {"top level"});
+  expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("camera": {"position": [0,0,1], "target": [0,0,0]})")),
+                      {"camera", "duplicate key"});
+}
+
+TEST(SceneErrors, MissingFiles) {
+  TempDir dir;
+  std::string missing = dir.file("no_such_scene.json");
+  try {
+    vs::loadScene(missing);
+    FAIL() << "expected SceneError";
+  } catch (const SceneError& e) {
+    std::string message = e.what();
+    EXPECT_NE(message.find("no_such_scene.json"), std::string::npos) << message;
+    EXPECT_NE(message.find("cannot open"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+  }
+  EXPECT_THROW(vs::loadScene("not_a_builtin_scene"), SceneError);
+  expectErrorMentions(loadError(dir, sceneText(R"({"gltf": "models/missing.gltf"})")),
+                      {"geometry[0].gltf", "missing.gltf", "cannot open"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0,5,0], "intensity": 1, "texture": "gobo.png"})")),
+                      {"light.texture", "gobo.png"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// glTF
+
+TEST(Gltf, EmbeddedBufferWithPointLightRoundTrip) {
+  TempDir dir;
+  QuadGltf quad;
+  dir.write("models/quad.gltf", quad.json(quad.dataUri(), R"({"type": "point", "color": [1, 0.5, 0.5], "intensity": 42})",
+                                          R"(, "translation": [10, 0, 0])"));
+  std::string scenePath =
+      dir.write("scene.json", sceneText(R"({"gltf": "models/quad.gltf", "translate": [0, 0, 5], "scale": 2})", ""));
+  Scene scene = vs::loadScene(scenePath);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const vs::Mesh& mesh = scene.meshes[0];
+  EXPECT_EQ(mesh.triangleCount(), 2u);
+  EXPECT_EQ(mesh.albedo, glm::vec3(0.25f, 0.5f, 0.75f));
+  expectValidMesh(mesh);
+  // Node translation (10, 0, 0), then scale 2, then translate (0, 0, 5).
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  EXPECT_EQ(lo, glm::vec3(20, 0, 5));
+  EXPECT_EQ(hi, glm::vec3(22, 2, 5));
+  for (const glm::vec3& n : mesh.normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);  // computed, counter-clockwise
+  // No "light" in the scene JSON: the glTF light is used, placed by the same transforms.
+  EXPECT_EQ(scene.light.type, vs::LightType::Point);
+  EXPECT_FLOAT_EQ(scene.light.intensity, 42.0f);
+  EXPECT_EQ(scene.light.color, glm::vec3(1, 0.5f, 0.5f));
+  EXPECT_NEAR(glm::distance(scene.light.position, glm::vec3(2, 4, 11)), 0.0f, 1e-5f);
+
+  // A light in the scene JSON wins.
+  std::string withLight = dir.write("scene_light.json", sceneText(R"({"gltf": "models/quad.gltf"})"));
+  EXPECT_FLOAT_EQ(vs::loadScene(withLight).light.intensity, 50.0f);
+}
+
+TEST(Gltf, ExternalBinWithSpotLight) {
+  TempDir dir;
+  QuadGltf quad;
+  dir.write("quad.bin", std::string(quad.buffer.begin(), quad.buffer.end()));
+  std::string path = dir.write("quad.gltf", quad.json("quad.bin",
+                                                      R"({"type": "spot", "intensity": 7, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}})",
+                                                      ""));
+  vs::ContentHasher hasher;
+  vs::GltfContent content = vs::loadGltf(path, glm::mat4(1.0f), &hasher);
+  ASSERT_EQ(content.meshes.size(), 1u);
+  ASSERT_TRUE(content.hasLight);
+  EXPECT_EQ(content.light.type, vs::LightType::Spot);
+  EXPECT_NEAR(content.light.spotInnerDeg, 0.2f * 57.29578f, 1e-3f);
+  EXPECT_NEAR(content.light.spotOuterDeg, 0.5f * 57.29578f, 1e-3f);
+  EXPECT_NEAR(glm::distance(content.light.position, glm::vec3(1, 2, 3)), 0.0f, 1e-6f);
+  // The light node is rotated -90 degrees about X, so its -Z axis points down.
+  EXPECT_NEAR(glm::distance(content.light.direction, glm::vec3(0, -1, 0)), 0.0f, 1e-5f);
+}
+
+TEST(Gltf, BinaryGlb) {
+  TempDir dir;
+  QuadGltf quad;
+  std::vector<unsigned char> glb = makeGlb(quad.json("", "", R"(, "scale": [1, 1, -1])"), quad.buffer);
+  std::string path = dir.write("quad.glb", std::string(glb.begin(), glb.end()));
+  vs::GltfContent content = vs::loadGltf(path, glm::mat4(1.0f));
+  ASSERT_EQ(content.meshes.size(), 1u);
+  EXPECT_EQ(content.meshes[0].triangleCount(), 2u);
+  EXPECT_FALSE(content.hasLight);
+  // The mirroring scale flips the winding, so the computed normals still agree with it.
+  EXPECT_EQ(windingAgreement(content.meshes[0]), 1.0);
+}
+
+TEST(Gltf, TruncatedOrInconsistentBuffersAreErrors) {
+  TempDir dir;
+  QuadGltf quad;
+  dir.write("short.bin", std::string(quad.buffer.begin(), quad.buffer.begin() + 40));
+  std::string truncated = dir.write("truncated.gltf", quad.json("short.bin", "", ""));
+  try {
+    vs::loadGltf(truncated, glm::mat4(1.0f));
+    FAIL() << "expected SceneError";
+  } catch (const SceneError& e) {
+    std::string message = e.what();
+    EXPECT_NE(message.find("truncated.gltf"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  // Through a scene, the error names both files.
+  std::string scenePath = dir.write("broken_scene.json", sceneText(R"({"gltf": "truncated.gltf"})"));
+  try {
+    vs::loadScene(scenePath);
+    FAIL() << "expected SceneError";
+  } catch (const SceneError& e) {
+    expectErrorMentions(e.what(), {"geometry[0].gltf", "truncated.gltf"});
+  }
+
+  dir.write("quad.bin", std::string(quad.buffer.begin(), quad.buffer.end()));
+  std::string tooManyIndices = dir.write("count.gltf", quad.json("quad.bin", "", "", 12));
+  EXPECT_THROW(vs::loadGltf(tooManyIndices, glm::mat4(1.0f)), SceneError);
+  std::string badAccessor = dir.write("accessor.gltf", quad.json("quad.bin", "", "", 6, 7));
+  EXPECT_THROW(vs::loadGltf(badAccessor, glm::mat4(1.0f)), SceneError);
+
+  std::vector<unsigned char> badIndexBuffer = quad.buffer;
+  badIndexBuffer[48] = 9;  // first index -> vertex 9 of 4
+  dir.write("badindex.bin", std::string(badIndexBuffer.begin(), badIndexBuffer.end()));
+  std::string badIndex = dir.write("badindex.gltf", quad.json("badindex.bin", "", ""));
+  EXPECT_THROW(vs::loadGltf(badIndex, glm::mat4(1.0f)), SceneError);
+
+  std::string malformed = dir.write("malformed.gltf", "{\"asset\": {\"version\": \"2.0\"}, ");
+  EXPECT_THROW(vs::loadGltf(malformed, glm::mat4(1.0f)), SceneError);
+  std::vector<unsigned char> glb = makeGlb(quad.json("", "", ""), quad.buffer);
+  std::string shortGlb = dir.write("short.glb", std::string(glb.begin(), glb.begin() + long(glb.size() / 2)));
+  EXPECT_THROW(vs::loadGltf(shortGlb, glm::mat4(1.0f)), SceneError);
+  EXPECT_THROW(vs::loadGltf(dir.file("absent.gltf"), glm::mat4(1.0f)), SceneError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Degenerate input
+
+TEST(Degenerate, NanAndZeroAreaTrianglesAreDropped) {
+  Scene scene = parse(sceneText(R"(
+    {"generator": "triangle", "params": {"vertices": [[0, 0, 0], [1, 0, 0], ["nan", 1, 0]]}},
+    {"generator": "triangle", "params": {"vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}},
+    {"generator": "triangle", "params": {"vertices": [[0, 0, 0], ["inf", 0, 0], [0, 1, 0]]}},
+    {"generator": "triangle", "params": {"vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                                         "normals": [[0, 0, 0], ["nan", 0, 0], [0, 0, 5]]}})"));
+  EXPECT_EQ(scene.droppedTriangles, 3u);
+  ASSERT_EQ(scene.meshes.size(), 1u);  // meshes left without triangles are removed
+  const vs::Mesh& mesh = scene.meshes[0];
+  expectValidMesh(mesh);
+  EXPECT_EQ(mesh.triangleCount(), 1u);
+  for (const glm::vec3& n : mesh.normals) EXPECT_NEAR(glm::distance(n, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+}
+
+TEST(Degenerate, SanitizeCompactsVerticesAndDropsBadIndices) {
+  vs::Mesh mesh;
+  float nan = std::nanf("");
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {nan, 0, 0}, {5, 5, 5}, {1, 1, 0}};
+  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 0}};
+  mesh.indices = {0, 1, 2, 0, 3, 2, 1, 2, 2, 0, 1, 42, 1, 5, 2};
+  EXPECT_EQ(vs::sanitizeMesh(mesh), 3u);
+  expectValidMesh(mesh);
+  EXPECT_EQ(mesh.positions.size(), 4u);  // NaN vertex and unused vertex removed
+  EXPECT_EQ(mesh.triangleCount(), 2u);
+  EXPECT_EQ(mesh.positions[3], glm::vec3(1, 1, 0));
+  EXPECT_NEAR(glm::distance(mesh.normals[3], glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Generators
+
+TEST(Generators, EveryGeneratorMakesAValidConsistentlyWoundMesh) {
+  for (const std::string& name : vs::generatorNames()) {
+    nlohmann::json params = nlohmann::json::object();
+    if (name == "triangle") params["vertices"] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    if (name == "forest") params["count"] = 3;
+    if (name == "terrain") params["resolution"] = 16;
+    std::vector<vs::Mesh> meshes = vs::generateMeshes(name, params, "test", "generator", "params");
+    ASSERT_EQ(meshes.size(), 1u) << name;
+    vs::Mesh mesh = meshes[0];
+    EXPECT_GT(mesh.triangleCount(), 0u) << name;
+    EXPECT_EQ(vs::sanitizeMesh(mesh), 0u) << name << " produced degenerate triangles";
+    expectValidMesh(mesh);
+    EXPECT_GE(windingAgreement(mesh), 0.999) << name;
+  }
+}
+
+TEST(Generators, NormalsPointOutwardOrIntoTheRoom) {
+  auto outwardFraction = [](const vs::Mesh& mesh, glm::vec3 center, float sign) {
+    size_t outward = 0;
+    for (size_t v = 0; v < mesh.positions.size(); ++v)
+      if (sign * glm::dot(mesh.normals[v], mesh.positions[v] - center) > 0.0f) ++outward;
+    return double(outward) / double(mesh.positions.size());
+  };
+  vs::SphereParams sphere;
+  sphere.center = {1, 2, 3};
+  EXPECT_EQ(outwardFraction(vs::makeSphere(sphere), sphere.center, 1.0f), 1.0);
+  vs::BoxParams box;
+  box.rotateDeg = {10, 20, 30};
+  EXPECT_EQ(outwardFraction(vs::makeBox(box), box.center, 1.0f), 1.0);
+  vs::RoomParams room;
+  room.hasWindow = true;
+  vs::Mesh roomMesh = vs::makeRoom(room);
+  EXPECT_EQ(outwardFraction(roomMesh, room.center + glm::vec3(0, 0.5f * room.size.y, 0), -1.0f), 1.0);
+  EXPECT_EQ(roomMesh.triangleCount(), 2u * (5 + 4));  // floor, ceiling, 3 walls, window wall in 4 parts
+  vs::TorusParams torus;
+  vs::Mesh torusMesh = vs::makeTorus(torus);
+  for (size_t v = 0; v < torusMesh.positions.size(); ++v) {
+    glm::vec3 p = torusMesh.positions[v];
+    glm::vec3 ringPoint = torus.majorRadius * glm::normalize(glm::vec3(p.x, 0, p.z));
+    EXPECT_GT(glm::dot(torusMesh.normals[v], p - ringPoint), 0.0f);
+  }
+}
+
+TEST(Generators, SeededGeneratorsAreDeterministic) {
+  vs::TreeParams tree;
+  tree.seed = 11;
+  vs::Mesh a = vs::makeTree(tree), b = vs::makeTree(tree);
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.indices, b.indices);
+  tree.seed = 12;
+  EXPECT_NE(vs::makeTree(tree).positions, a.positions);
+  EXPECT_EQ(a.triangleCount(), size_t(1 + 3 + 9 + 27 + 81 + 243) * 5 * 2);
+
+  vs::TerrainParams terrain;
+  terrain.resolution = 32;
+  EXPECT_EQ(vs::makeTerrain(terrain).positions, vs::makeTerrain(terrain).positions);
+  vs::Mesh flat = vs::makeTerrain(terrain);
+  terrain.seed = 2;
+  EXPECT_NE(vs::makeTerrain(terrain).positions, flat.positions);
+  float lowest = 1e9f, highest = -1e9f;
+  for (const glm::vec3& p : flat.positions) {
+    lowest = std::min(lowest, p.y);
+    highest = std::max(highest, p.y);
+  }
+  EXPECT_GE(lowest, 0.0f);
+  EXPECT_LE(highest, terrain.height);
+  EXPECT_GT(highest - lowest, 0.1f * terrain.height);
+}
+
+TEST(Generators, FenceWiresAreThin) {
+  vs::FenceParams fence;
+  fence.frame = false;
+  vs::Mesh mesh = vs::makeChainlinkFence(fence);
+  float minZ = 1e9f, maxZ = -1e9f;
+  for (const glm::vec3& p : mesh.positions) {
+    minZ = std::min(minZ, p.z);
+    maxZ = std::max(maxZ, p.z);
+  }
+  EXPECT_LE(maxZ - minZ, 4.0f * fence.wireRadius + 1e-5f);
+  EXPECT_GT(mesh.triangleCount(), 12u * 50u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Light textures
+
+TEST(LightTexture, SrgbPngIsLinearisedTopRowFirst) {
+  TempDir dir;
+  std::string png = dir.file("gobo.png");
+  {
+    auto out = OIIO::ImageOutput::create(png);
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(2, 2, 3, OIIO::TypeDesc::UINT8);
+    ASSERT_TRUE(out->open(png, spec));
+    const unsigned char pixels[12] = {255, 0, 0, 128, 128, 128, 0, 0, 0, 0, 0, 255};
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+    out->close();
+  }
+  std::string scenePath = dir.write("scene.json", sceneText("", R"("light": {"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0], "intensity": 1, "texture": "gobo.png"})"));
+  Scene scene = vs::loadScene(scenePath);
+  ASSERT_TRUE(scene.light.hasTexture());
+  EXPECT_EQ(scene.light.textureWidth, 2);
+  EXPECT_EQ(scene.light.textureHeight, 2);
+  EXPECT_EQ(scene.light.texturePath, png);
+  const std::vector<float>& rgb = scene.light.textureRGB;
+  EXPECT_NEAR(rgb[0], 1.0f, 1e-6f);      // top-left red
+  EXPECT_NEAR(rgb[3], 0.21586f, 1e-4f);  // sRGB 128 -> linear
+  EXPECT_NEAR(rgb[11], 1.0f, 1e-6f);     // bottom-right blue
+}
+
+// ---------------------------------------------------------------------------------------------
+// Content hash
+
+TEST(ContentHash, IsFnv1aAndStable) {
+  vs::ContentHasher hasher;
+  hasher.addBytes("a", 1);
+  EXPECT_EQ(hasher.value(), 0xaf63dc4c8601ec8cull);  // published FNV-1a 64 test vector
+  EXPECT_EQ(hasher.hex(), "af63dc4c8601ec8c");
+
+  EXPECT_EQ(vs::loadScene("spheres").contentHash, vs::loadScene("spheres").contentHash);
+  EXPECT_NE(vs::loadScene("spheres").contentHash, vs::loadScene("fence").contentHash);
+  std::string text = sceneText(R"({"generator": "box"})");
+  EXPECT_EQ(parse(text).contentHash, parse(text).contentHash);
+  EXPECT_NE(parse(text).contentHash, parse(text + " ").contentHash);
+}
+
+TEST(ContentHash, CoversReferencedFiles) {
+  TempDir dir;
+  QuadGltf quad;
+  dir.write("quad.bin", std::string(quad.buffer.begin(), quad.buffer.end()));
+  dir.write("quad.gltf", quad.json("quad.bin", "", ""));
+  std::string scenePath = dir.write("scene.json", sceneText(R"({"gltf": "quad.gltf"})"));
+  std::string before = vs::loadScene(scenePath).contentHash;
+  EXPECT_EQ(vs::loadScene(scenePath).contentHash, before);
+  std::vector<unsigned char> moved = quad.buffer;
+  moved[0] = 0x3f;  // change one byte of the first vertex; the file size stays the same
+  dir.write("quad.bin", std::string(moved.begin(), moved.end()));
+  EXPECT_NE(vs::loadScene(scenePath).contentHash, before);
+}
