@@ -1,0 +1,296 @@
+#include "gl.hpp"
+
+#include <atomic>
+#include <cstdio>
+#include <mutex>
+#include <regex>
+#include <set>
+#include <sstream>
+
+namespace vs {
+const std::map<std::string, std::string>& embeddedShaderFiles();  // generated at build time
+}
+
+namespace vs::gl {
+
+void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
+void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
+void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
+void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
+void deleteProgram(GLuint id) { glDeleteProgram(id); }
+void deleteQuery(GLuint id) { glDeleteQueries(1, &id); }
+void deleteSampler(GLuint id) { glDeleteSamplers(1, &id); }
+
+Buffer createBuffer(size_t bytes, const void* data, GLbitfield flags) {
+  GLuint id = 0;
+  glCreateBuffers(1, &id);
+  glNamedBufferStorage(id, GLsizeiptr(bytes > 0 ? bytes : 4), data, flags);
+  return Buffer(id);
+}
+
+Texture createTexture2D(GLenum internalFormat, int width, int height, int levels) {
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &id);
+  glTextureStorage2D(id, levels, internalFormat, width, height);
+  Texture t(id);
+  setFilter(id, GL_NEAREST, GL_NEAREST);
+  return t;
+}
+
+Texture createTextureCube(GLenum internalFormat, int size) {
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &id);
+  glTextureStorage2D(id, 1, internalFormat, size, size);
+  Texture t(id);
+  setFilter(id, GL_NEAREST, GL_NEAREST);
+  return t;
+}
+
+void setFilter(GLuint texture, GLenum minFilter, GLenum magFilter, GLenum wrap) {
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GLint(minFilter));
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GLint(magFilter));
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GLint(wrap));
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GLint(wrap));
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_R, GLint(wrap));
+}
+
+Framebuffer createFramebuffer(std::initializer_list<std::pair<GLenum, GLuint>> attachments) {
+  GLuint id = 0;
+  glCreateFramebuffers(1, &id);
+  Framebuffer fbo(id);
+  std::vector<GLenum> drawBuffers;
+  for (auto [attachment, texture] : attachments) {
+    glNamedFramebufferTexture(id, attachment, texture, 0);
+    if (attachment >= GL_COLOR_ATTACHMENT0 && attachment <= GL_COLOR_ATTACHMENT15)
+      drawBuffers.push_back(attachment);
+  }
+  if (drawBuffers.empty())
+    glNamedFramebufferDrawBuffer(id, GL_NONE);
+  else
+    glNamedFramebufferDrawBuffers(id, GLsizei(drawBuffers.size()), drawBuffers.data());
+  return fbo;
+}
+
+void checkFramebuffer(GLuint fbo, const char* what) {
+  GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "framebuffer '%s' incomplete (status 0x%04x)", what, status);
+    throw GlError(buf);
+  }
+}
+
+// ---- shaders
+
+const std::map<std::string, std::string>& shaderFiles() { return embeddedShaderFiles(); }
+
+static const std::string& shaderText(const std::string& path) {
+  auto it = shaderFiles().find(path);
+  if (it == shaderFiles().end()) throw GlError("shader file not found in the binary: " + path);
+  return it->second;
+}
+
+static std::string folderOf(const std::string& path) {
+  auto slash = path.rfind('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+static void expand(const std::string& path, std::vector<std::string>& table, std::set<std::string>& seen,
+                   std::ostringstream& out, bool top, const std::string& defines) {
+  if (seen.count(path)) return;  // every file is included once
+  seen.insert(path);
+  int index = int(table.size());
+  table.push_back(path);
+  std::istringstream in(shaderText(path));
+  std::string line;
+  int lineNo = 0;
+  static const std::regex includeRe(R"(^\s*#\s*include\s+"([^"]+)\"\s*$)");
+  if (!top) out << "#line 1 " << index << "\n";
+  while (std::getline(in, line)) {
+    ++lineNo;
+    std::smatch m;
+    if (top && lineNo == 1 && line.rfind("#version", 0) == 0) {
+      out << line << "\n" << defines << (defines.empty() || defines.back() == '\n' ? "" : "\n");
+      out << "#line 2 " << index << "\n";
+    } else if (std::regex_match(line, m, includeRe)) {
+      std::string name = m[1];
+      std::string candidate = folderOf(path) + name;
+      if (!shaderFiles().count(candidate)) candidate = "harness/shaders/" + name;
+      if (!shaderFiles().count(candidate))
+        throw GlError(path + ":" + std::to_string(lineNo) + ": cannot find include \"" + name + "\"");
+      expand(candidate, table, seen, out, false, defines);
+      out << "#line " << (lineNo + 1) << " " << index << "\n";
+    } else {
+      out << line << "\n";
+    }
+  }
+}
+
+std::string preprocess(const std::string& path, const std::string& defines, std::vector<std::string>& table) {
+  std::ostringstream out;
+  std::set<std::string> seen;
+  table.clear();
+  expand(path, table, seen, out, true, defines);
+  return out.str();
+}
+
+// Rewrites driver log locations ("0:12(3):" Mesa, "0(12) :" NVIDIA, "ERROR: 0:12:" AMD) to file:line.
+static std::string nameLogLocations(const std::string& log, const std::vector<std::string>& table) {
+  static const std::regex locRe(R"((\d+)(?::(\d+)\(\d+\)|\((\d+)\)|:(\d+)))");
+  std::string out;
+  std::istringstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (std::regex_search(line, m, locRe)) {
+      size_t file = std::stoul(m[1]);
+      std::string lineNo = m[2].matched ? m[2].str() : m[3].matched ? m[3].str() : m[4].str();
+      if (file < table.size()) line = m.prefix().str() + table[file] + ":" + lineNo + m.suffix().str();
+    }
+    if (!line.empty()) out += line + "\n";
+  }
+  return out;
+}
+
+Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& defines) {
+  GLuint program = glCreateProgram();
+  Program owner(program);
+  std::vector<GLuint> shaders;
+  std::string names;
+  for (const auto& s : stages) {
+    std::vector<std::string> table;
+    std::string source = preprocess(s.path, defines, table);
+    GLuint shader = glCreateShader(s.stage);
+    const char* text = source.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      GLint length = 0;
+      glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+      std::string log(size_t(std::max(length, 1)), '\0');
+      glGetShaderInfoLog(shader, length, nullptr, log.data());
+      glDeleteShader(shader);
+      for (GLuint sh : shaders) glDeleteShader(sh);
+      std::string named = nameLogLocations(log.c_str(), table);
+      std::string first = named.substr(0, named.find('\n'));
+      throw GlError("shader compile failed: " + first);
+    }
+    glAttachShader(program, shader);
+    shaders.push_back(shader);
+    names += (names.empty() ? "" : " + ") + s.path;
+  }
+  glLinkProgram(program);
+  for (GLuint sh : shaders) {
+    glDetachShader(program, sh);
+    glDeleteShader(sh);
+  }
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program, length, nullptr, log.data());
+    std::string first = std::string(log.c_str()).substr(0, std::string(log.c_str()).find('\n'));
+    throw GlError("shader link failed (" + names + "): " + first);
+  }
+  return owner;
+}
+
+Program buildFullscreen(const std::string& fragmentPath, const std::string& defines) {
+  return buildProgram({{GL_VERTEX_SHADER, "harness/shaders/fullscreen.vert"}, {GL_FRAGMENT_SHADER, fragmentPath}},
+                      defines);
+}
+
+std::string shaderSourcesHash() {
+  uint64_t h = 1469598103934665603ull;
+  for (const auto& [name, text] : shaderFiles()) {
+    for (char c : name + '\0' + text) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  }
+  char buf[20];
+  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
+  return buf;
+}
+
+// ---- debug output
+
+static std::atomic<int> g_errors{0};
+static bool g_strict = false;
+static std::mutex g_lastMutex;
+static std::string g_lastError;
+
+static void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei,
+                                      const GLchar* message, const void*) {
+  (void)source;
+  if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
+  bool isError = type == GL_DEBUG_TYPE_ERROR;
+  if (isError) {
+    ++g_errors;
+    std::lock_guard<std::mutex> lock(g_lastMutex);
+    g_lastError = message;
+  }
+  std::fprintf(stderr, "GL %s [%u]: %s\n", isError ? "error" : "debug", id, message);
+}
+
+void installDebugOutput(bool strict) {
+  g_strict = strict;
+  glEnable(GL_DEBUG_OUTPUT);
+  glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+  glDebugMessageCallback(onDebugMessage, nullptr);
+  glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
+  // Performance chatter from some drivers is not an error and is not useful in a benchmark log.
+  glDebugMessageControl(GL_DONT_CARE, GL_DEBUG_TYPE_PERFORMANCE, GL_DONT_CARE, 0, nullptr, GL_FALSE);
+  glDebugMessageControl(GL_DONT_CARE, GL_DEBUG_TYPE_OTHER, GL_DEBUG_SEVERITY_LOW, 0, nullptr, GL_FALSE);
+}
+
+int debugErrorCount() { return g_errors.load(); }
+void resetDebugErrorCount() { g_errors = 0; }
+std::string lastDebugError() {
+  std::lock_guard<std::mutex> lock(g_lastMutex);
+  return g_lastError;
+}
+
+void checkErrors(const char* where) {
+  GLenum e = glGetError();
+  if (e != GL_NO_ERROR) {
+    ++g_errors;
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "GL error 0x%04x at %s", e, where);
+    std::lock_guard<std::mutex> lock(g_lastMutex);
+    g_lastError = buf;
+  }
+  if (g_strict && g_errors > 0) throw GlError("GL error at " + std::string(where) + ": " + lastDebugError());
+}
+
+static VertexArray g_emptyVao;
+
+void drawFullscreenTriangle() {
+  if (!g_emptyVao) {
+    GLuint id = 0;
+    glCreateVertexArrays(1, &id);
+    g_emptyVao = VertexArray(id);
+  }
+  glBindVertexArray(g_emptyVao.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void releaseSharedObjects() { g_emptyVao.reset(); }
+
+Limits queryLimits() {
+  Limits l;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &l.maxTextureSize);
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &l.maxCubeMapSize);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &l.maxRenderbufferSize);
+  GLint dims[2] = {0, 0};
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+  l.maxViewportW = dims[0];
+  l.maxViewportH = dims[1];
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &l.maxTexture3DSize);
+  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &l.maxDrawBuffers);
+  glGetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &l.maxColorAttachments);
+  return l;
+}
+
+}  // namespace vs::gl
