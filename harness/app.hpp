@@ -1,0 +1,27 @@
+// The vshadow commands: list, run, shootout.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace vs {
+
+struct RunRequest {
+  std::string scene;
+  std::vector<std::string> methods;  // specs; for shootout, optional method-name filter
+  std::string size = "512x512";
+  std::string out = "vshadow-results";
+  std::string cacheDir;              // empty: defaultCacheDir()
+  std::string referenceSpec;         // empty: the registered reference method
+  std::string timer = "auto";        // auto | gpu | wall
+  int frames = 20, warmup = 3;
+  long long seed = 1;
+  bool noReference = false;
+  bool noImages = false;
+  bool strictGl = false;
+  std::string commandLine;
+};
+
+int listCommand();
+int runCommand(const RunRequest& request, bool shootout);
+
+}  // namespace vs

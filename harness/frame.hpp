@@ -1,0 +1,137 @@
+// The scene-independent frame pipeline shared by every method: scene upload, shadow map,
+// G-buffer, direct lighting and composite. Methods only write L_s into the in-scatter target.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <string>
+
+#include "effects.hpp"
+#include "gl.hpp"
+#include "image.hpp"
+#include "scenes/scene.hpp"
+#include "timer.hpp"
+
+namespace vs {
+
+// Texture units and binding points every shader agrees on (see harness/shaders/common.glsl).
+namespace bind {
+constexpr GLuint kFrameUniforms = 0;      // UBO
+constexpr GLuint kShadowMap2D = 0;        // sampler2DShadow (spot, directional)
+constexpr GLuint kShadowMapCube = 1;      // samplerCubeShadow (point)
+constexpr GLuint kLightTexture = 2;       // sampler2D, linear RGB
+constexpr GLuint kGPosition = 3;          // xyz world position of the first hit (far plane if none), w distance
+constexpr GLuint kGNormal = 4;            // xyz normal facing the eye, w = 1 on geometry, 0 on sky
+constexpr GLuint kGAlbedo = 5;
+constexpr GLuint kDirect = 6;             // L_surf
+constexpr GLuint kInscatter = 7;          // L_s
+constexpr GLuint kShadowDepth2D = 8;      // the 2D shadow map as plain depth (sampler2D)
+constexpr GLuint kShadowDepthCube = 9;    // the cube shadow map as plain depth (samplerCube)
+constexpr GLuint kFirstMethodUnit = 10;   // units from here on belong to the method
+}  // namespace bind
+
+// std140 mirror of FrameUniforms in common.glsl.
+struct FrameUniforms {
+  glm::mat4 viewProj, invViewProj, view, proj;
+  glm::mat4 lightViewProj;   // spot/directional shadow map and light-texture projection
+  glm::mat4 lightView;       // light-space view (point: identity rotation at the light)
+  glm::vec4 eye;             // xyz; w = 0
+  glm::vec4 cameraForward;   // xyz; w = tan(fovY/2)
+  glm::vec4 lightPos;        // xyz; w = type (0 point, 1 spot, 2 directional)
+  glm::vec4 lightDir;        // xyz direction light travels; w = cos(outer cone)
+  glm::vec4 lightColor;      // rgb * intensity; w = cos(inner cone)
+  glm::vec4 shadowParams;    // x near, y far (light projection), z shadow-map size, w has light texture
+  glm::vec4 medium;          // sigma_s, sigma_a, sigma_t, g
+  glm::vec4 cameraClip;      // near, far, phase (0 iso, 1 HG), directional ortho half-extent
+  glm::ivec4 viewport;       // width, height, frame index, seed
+};
+
+struct SceneGpu {
+  gl::VertexArray vao;
+  gl::Buffer vertices, indices;
+  GLsizei indexCount = 0;
+  glm::vec3 boundsLo{0}, boundsHi{0};
+  explicit SceneGpu(const Scene& scene);
+  void draw() const;
+};
+
+struct ShadowMap {
+  LightType type = LightType::Point;
+  int size = 0;
+  gl::Texture depth;                  // 2D or cube, DEPTH_COMPONENT32F, compare mode on
+  gl::Sampler compareSampler, plainSampler;
+  gl::Framebuffer fbos[6];
+  glm::mat4 viewProj{1.0f};           // 2D
+  glm::mat4 faceViewProj[6];          // cube
+  float nearZ = 0.01f, farZ = 100.0f;
+  float orthoHalfExtent = 1.0f;
+};
+
+struct RenderSize {
+  int width = 0, height = 0;
+};
+
+// What a method sees of the frame. Valid during Method::render.
+struct Frame {
+  const Scene& scene;
+  const SceneGpu& geometry;
+  const Effects& effects;
+  const FrameUniforms& uniforms;
+  const ShadowMap& shadowMap;
+  int width, height;
+  uint32_t frameIndex, seed;
+  GLuint gPosition, gNormal, gAlbedo, depth;
+  GLuint inscatter;         // RGBA32F texture the method writes L_s into
+  GLuint inscatterFbo;      // framebuffer with `inscatter` as color attachment 0, viewport = size
+  GLuint lightTexture;      // 0 when the light has no texture
+  GLuint uboId;             // FrameUniforms
+  // Binds the frame's UBO, shadow map, light texture and G-buffer to the units in `bind`.
+  void bindShared() const;
+};
+
+class SharedPasses {
+ public:
+  SharedPasses(const Scene& scene, const SceneGpu& geometry, const Effects& effects, int width, int height);
+  // Rebuilds the shadow map if `size` changed.
+  void setShadowMapSize(int size);
+  void updateUniforms(uint32_t frameIndex, uint32_t seed);
+  void renderShadowMap(PassTimer& timer);   // "Shadow Map"
+  void renderGBuffer(PassTimer& timer);     // "G Buffer"
+  void renderDirect(PassTimer& timer);      // "Direct Lighting"
+  void clearInscatter();
+  void composite(PassTimer& timer);         // "Composite"
+  Frame frame() const;
+  Image readInscatter() const;
+  Image readFinal() const;
+  Image readDirect() const;
+  const FrameUniforms& uniforms() const { return uniforms_; }
+  const ShadowMap& shadowMap() const { return shadow_; }
+
+ private:
+  void buildShadowMap(int size);
+  Image readTexture(GLuint texture) const;
+
+  const Scene& scene_;
+  const SceneGpu& geometry_;
+  const Effects& effects_;
+  int width_, height_;
+  FrameUniforms uniforms_{};
+  gl::Buffer ubo_;
+  ShadowMap shadow_;
+  gl::Texture lightTexture_;
+  gl::Sampler lightSampler_;
+  gl::Texture gPosition_, gNormal_, gAlbedo_, depth_, direct_, inscatter_, final_;
+  gl::Framebuffer gbufferFbo_, directFbo_, inscatterFbo_, finalFbo_;
+  gl::Program shadowProgram_, skyProgram_, gbufferProgram_, directProgram_, compositeProgram_;
+  uint32_t frameIndex_ = 0, seed_ = 0;
+};
+
+// Preprocessor defines that specialise shaders to the scene's light type, light texture and phase
+// function (see common.glsl); pass them to gl::buildProgram.
+std::string sceneDefines(const Effects& effects);
+
+// Camera and light matrices, exposed for CPU-side integrators and tests.
+glm::mat4 cameraView(const Camera& c);
+glm::mat4 cameraProjection(const Camera& c, float aspect);
+
+}  // namespace vs

@@ -1,0 +1,53 @@
+// vshadow: benchmark suite for real-time volumetric shadows.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+#include "app.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"vshadow: time volumetric-shadow methods pass by pass and measure their error against a "
+               "ray-marched reference"};
+  app.require_subcommand(1);
+  vs::RunRequest run, shootout;
+  for (int i = 0; i < argc; ++i) run.commandLine += (i ? " " : "") + std::string(argv[i]);
+  shootout.commandLine = run.commandLine;
+
+  app.add_subcommand("list", "list built-in scenes and every method with its parameters");
+
+  auto addCommon = [](CLI::App* cmd, vs::RunRequest& r) {
+    cmd->add_option("--scene", r.scene, "built-in scene name or path to a scene .json")->required();
+    cmd->add_option("--size", r.size, "image size WxH")->capture_default_str();
+    cmd->add_option("--out", r.out, "output folder (rows already there are kept)")->capture_default_str();
+    cmd->add_option("--frames", r.frames, "measured frames per method")->capture_default_str()->check(CLI::Range(1, 100000));
+    cmd->add_option("--warmup", r.warmup, "warm-up frames per method")->capture_default_str()->check(CLI::Range(0, 100000));
+    cmd->add_option("--seed", r.seed, "seed for jitter and random scenes")->capture_default_str()->check(CLI::Range(0LL, 4294967295LL));
+    cmd->add_option("--timer", r.timer, "timing strategy")->capture_default_str()->check(CLI::IsMember({"auto", "gpu", "wall"}));
+    cmd->add_option("--cache", r.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");
+    cmd->add_option("--reference", r.referenceSpec, "method spec of the reference (default: the ray-marched reference)");
+    cmd->add_flag("--no-reference", r.noReference, "skip the reference and the error metrics");
+    cmd->add_flag("--no-images", r.noImages, "write no images");
+    cmd->add_flag("--strict-gl", r.strictGl, "treat any GL debug error as fatal");
+  };
+  auto* runCmd = app.add_subcommand("run", "run the given methods on one scene");
+  addCommon(runCmd, run);
+  runCmd->add_option("--method", run.methods, "method spec name:key=value:... (repeatable)")->required();
+  auto* shootCmd = app.add_subcommand(
+      "shootout", "run every method that supports the scene at its ladder of quality settings against the reference");
+  addCommon(shootCmd, shootout);
+  shootCmd->add_option("--method", shootout.methods, "only these methods (by name; repeatable)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "vshadow: error: %s (see vshadow --help)\n", e.what());
+    return 2;
+  }
+  if (app.got_subcommand("list")) return vs::listCommand();
+  if (app.got_subcommand("run")) return vs::runCommand(run, false);
+  return vs::runCommand(shootout, true);
+}

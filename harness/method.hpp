@@ -1,0 +1,76 @@
+// The one interface every volumetric-shadow method implements. The harness knows methods only
+// through this header and the registry (methods/registry.cpp); it never names one.
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "frame.hpp"
+#include "params.hpp"
+#include "timer.hpp"
+
+namespace vs {
+
+struct Capabilities {
+  bool pointLight = false, spotLight = false, directionalLight = false, areaLight = false;
+  bool texturedLight = false;
+  bool homogeneousMedium = true;
+  bool henyeyGreenstein = false;
+  bool volumeData = false;
+  bool semiTransparentOccluders = false;
+  bool surfaceShadows = false;
+  std::string describe() const;
+};
+
+struct SetupContext {
+  const Scene& scene;
+  const SceneGpu& geometry;
+  const Effects& effects;
+  int width, height;
+  int shadowMapSize;
+  const gl::Limits& limits;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  virtual std::string name() const = 0;
+  virtual std::string description() const = 0;  // one line: paper and what it does
+  virtual Capabilities capabilities() const = 0;
+  // The method's own knobs. The harness adds the shared ones (sm = shadow-map resolution).
+  virtual std::vector<ParamSpec> params() const = 0;
+  // Parameter sets for `vshadow shootout`, cheapest first (each "key=value:key=value").
+  virtual std::vector<std::string> qualityLadder() const { return {""}; }
+  // Parameters that make this method the ray-marched reference; empty when it cannot be one.
+  virtual std::string referenceParams() const { return ""; }
+  // Why this method cannot render `scene` with `params`; empty when it can. The default checks
+  // the light type, light texture and phase against capabilities().
+  virtual std::string unsupportedReason(const Scene& scene, const ParamValues& params) const;
+  // Allocate and compile; called once before the frames. Throw to fail the run with a reason.
+  virtual void setup(const SetupContext& context, const ParamValues& params) = 0;
+  // Write L_s into frame.inscatterFbo; every pass inside timer.scope("Paper's pass name").
+  // Called only when the scene scatters light (Effects::scattering).
+  virtual void render(const Frame& frame, PassTimer& timer) = 0;
+  // Figures for the result row, from the measured pass medians (e.g. samples per second).
+  virtual std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const {
+    (void)passes;
+    return {};
+  }
+};
+
+struct MethodInfo {
+  std::string name;
+  std::function<std::unique_ptr<Method>()> create;
+};
+// Defined in methods/registry.cpp: one line per method.
+const std::vector<MethodInfo>& registeredMethods();
+
+// Shared parameters every method accepts, appended to its own.
+std::vector<ParamSpec> sharedParams(int maxShadowMapSize);
+std::vector<ParamSpec> allParams(const Method& method, int maxShadowMapSize);
+std::unique_ptr<Method> createMethod(const std::string& name);  // throws UsageError if unknown
+std::string knownMethodNames();
+
+}  // namespace vs

@@ -1,0 +1,160 @@
+#include "results.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace vs {
+
+void writeFileAtomic(const std::string& path, const std::string& text) {
+  auto slash = path.rfind('/');
+  std::string dir = slash == std::string::npos ? "." : path.substr(0, slash);
+  std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  std::string tmp = dir + "/." + base + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write " + path + " (cannot create a file in " + dir + ")");
+    out << text;
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error("cannot write " + path + " (write failed)");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot write " + path + " (rename failed)");
+  }
+}
+
+std::vector<std::string> runsCsvHeader() {
+  return {"scene",         "method",         "params",      "status",        "reason",       "passes",
+          "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable",
+          "rmse",          "relmse",         "psnr",        "ssim",          "max_abs",      "max_abs_x",
+          "max_abs_y",     "ls_rmse",        "ls_relmse",   "ls_psnr",       "ls_ssim",      "ls_max_abs",
+          "nonfinite_pixels", "method_stats", "width",      "height",        "shadow_map",   "frames",
+          "reference",     "timer",          "renderer",    "date"};
+}
+
+std::vector<std::string> passesCsvHeader() {
+  return {"scene",  "method", "params",   "pass",  "median_ms", "min_ms",
+          "max_ms", "mdape_pct", "frames", "timer", "renderer"};
+}
+
+std::string num(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+CsvTable::CsvTable(std::vector<std::string> header, size_t keyColumns)
+    : header_(std::move(header)), keyColumns_(keyColumns) {}
+
+std::string CsvTable::format(const std::vector<std::string>& fields) {
+  std::string line;
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const std::string& f = fields[i];
+    if (i) line += ',';
+    if (f.find_first_of(",\"\n\r") != std::string::npos) {
+      line += '"';
+      for (char c : f) line += c == '"' ? std::string("\"\"") : std::string(1, c);
+      line += '"';
+    } else {
+      line += f;
+    }
+  }
+  return line + "\n";
+}
+
+std::vector<std::vector<std::string>> CsvTable::parse(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string field;
+  bool quoted = false, any = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    char c = text[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        field += c;
+      }
+      continue;
+    }
+    if (c == '"') {
+      quoted = true;
+      any = true;
+    } else if (c == ',') {
+      row.push_back(field);
+      field.clear();
+      any = true;
+    } else if (c == '\n') {
+      row.push_back(field);
+      rows.push_back(row);
+      row.clear();
+      field.clear();
+      any = false;
+    } else if (c != '\r') {
+      field += c;
+      any = true;
+    }
+  }
+  if (any) {
+    row.push_back(field);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void CsvTable::loadExisting(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  auto rows = parse(ss.str());
+  if (rows.empty()) return;
+  if (rows[0] != header_)
+    throw std::runtime_error(path + " exists with other columns; write to another --out folder");
+  for (size_t i = 1; i < rows.size(); ++i)
+    if (rows[i].size() == header_.size()) rows_.push_back(rows[i]);
+}
+
+void CsvTable::upsert(const std::vector<std::string>& row) {
+  if (row.size() != header_.size()) throw std::logic_error("CSV row has the wrong number of fields");
+  for (auto& existing : rows_) {
+    bool same = true;
+    for (size_t k = 0; k < keyColumns_ && same; ++k) same = existing[k] == row[k];
+    if (same) {
+      existing = row;
+      return;
+    }
+  }
+  rows_.push_back(row);
+}
+
+void CsvTable::removeMatching(const std::vector<std::string>& prefix, size_t n) {
+  std::vector<std::vector<std::string>> kept;
+  for (auto& r : rows_) {
+    bool same = true;
+    for (size_t k = 0; k < n && same; ++k) same = r[k] == prefix[k];
+    if (!same) kept.push_back(r);
+  }
+  rows_ = std::move(kept);
+}
+
+void CsvTable::save(const std::string& path) const {
+  std::string text = format(header_);
+  for (const auto& r : rows_) text += format(r);
+  writeFileAtomic(path, text);
+}
+
+}  // namespace vs

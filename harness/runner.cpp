@@ -1,0 +1,199 @@
+#include "runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "results.hpp"
+
+namespace vs {
+
+namespace fs = std::filesystem;
+
+const char* runStatusName(RunStatus s) {
+  switch (s) {
+    case RunStatus::Success:
+      return "Success";
+    case RunStatus::Unsupported:
+      return "Unsupported";
+    case RunStatus::Failure:
+      return "Failure";
+  }
+  return "?";
+}
+
+Runner::Runner(const Scene& scene, const gl::Limits& limits, RunOptions options)
+    : scene_(scene), limits_(limits), options_(options), effects_(deriveEffects(scene)) {
+  geometry_ = std::make_unique<SceneGpu>(scene_);
+  shared_ = std::make_unique<SharedPasses>(scene_, *geometry_, effects_, options_.width, options_.height);
+}
+
+static size_t countNonFinite(const Image& img) {
+  size_t n = 0;
+  for (float v : img.rgb) n += std::isfinite(v) ? 0 : 1;
+  return n;
+}
+
+MethodRun Runner::run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress) {
+  MethodRun result;
+  result.method = method.name();
+  result.params = params.canonical();
+  result.shadowMapSize = params.getInt("sm");
+  std::string unsupported = method.unsupportedReason(scene_, params);
+  if (!unsupported.empty()) {
+    result.status = RunStatus::Unsupported;
+    result.reason = unsupported;
+    return result;
+  }
+  gl::resetDebugErrorCount();
+  try {
+    shared_->setShadowMapSize(result.shadowMapSize);
+    shared_->updateUniforms(0, options_.seed);
+    // Passes a scene does not call for are not built: without scattering the method is not set up.
+    if (effects_.scattering) {
+      SetupContext context{scene_, *geometry_, effects_, options_.width, options_.height, result.shadowMapSize, limits_};
+      method.setup(context, params);
+    }
+    gl::checkErrors("method setup");
+    PassTimer timer(options_.timer);
+    int total = options_.warmup + options_.frames;
+    for (int f = 0; f < total; ++f) {
+      shared_->updateUniforms(uint32_t(f), options_.seed);
+      timer.beginFrame(f >= options_.warmup);
+      shared_->renderShadowMap(timer);
+      shared_->renderGBuffer(timer);
+      shared_->renderDirect(timer);
+      if (effects_.scattering) {
+        method.render(shared_->frame(), timer);
+      } else {
+        shared_->clearInscatter();
+      }
+      shared_->composite(timer);
+      timer.endFrame();
+      gl::checkErrors("frame");
+      if (progress) progress(f + 1, total);
+    }
+    timer.finish();
+    for (const auto& name : timer.passOrder()) {
+      TimingStats s = summarise(timer.samples().at(name));
+      if (name == PassTimer::kFrame) {
+        result.frame = s;
+      } else {
+        result.passStats[name] = s;
+        result.passes.push_back(name);
+      }
+    }
+    result.stats = method.stats(result.passStats);
+    result.inscatter = shared_->readInscatter();
+    result.final = shared_->readFinal();
+    gl::checkErrors("readback");
+    if (gl::debugErrorCount() > 0) {
+      result.status = RunStatus::Failure;
+      result.reason = "GL error: " + gl::lastDebugError();
+    }
+    result.nonFinitePixels = countNonFinite(result.inscatter) + countNonFinite(result.final);
+    if (result.status == RunStatus::Success && result.nonFinitePixels > 0) {
+      result.status = RunStatus::Failure;
+      result.reason = std::to_string(result.nonFinitePixels) + " non-finite pixel values";
+    }
+  } catch (const std::exception& e) {
+    result.status = RunStatus::Failure;
+    result.reason = e.what();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glUseProgram(0);
+  return result;
+}
+
+ResolvedSpec resolveSpec(const std::string& text, const gl::Limits& limits) {
+  MethodSpec spec = parseMethodSpec(text);
+  auto method = createMethod(spec.method);
+  int maxShadow = std::min(limits.maxTextureSize, limits.maxCubeMapSize);
+  return {spec.method, ParamValues::parse(spec.method, allParams(*method, maxShadow), spec.params)};
+}
+
+// ---- reference
+
+std::string defaultCacheDir() {
+  if (const char* dir = std::getenv("VSHADOW_CACHE")) return dir;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME")) return std::string(xdg) + "/vshadow";
+  if (const char* home = std::getenv("HOME")) return std::string(home) + "/.cache/vshadow";
+  return ".vshadow-cache";
+}
+
+static std::string hashText(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (char c : text) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  char buf[20];
+  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
+  return buf;
+}
+
+Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options, int shadowMapSize,
+                          const std::string& cacheDir, const std::string& overrideSpec) {
+  std::string spec = overrideSpec;
+  if (spec.empty()) {
+    for (const auto& info : registeredMethods()) {
+      auto m = info.create();
+      if (!m->referenceParams().empty()) {
+        spec = info.name + ":" + m->referenceParams() + ":sm=" + std::to_string(shadowMapSize);
+        break;
+      }
+    }
+    if (spec.empty()) throw std::runtime_error("no registered method can serve as the reference");
+  }
+  ResolvedSpec resolved = resolveSpec(spec, limits);
+  Reference ref;
+  ref.method = resolved.method;
+  ref.params = resolved.params.canonical();
+  std::string keyText = "vshadow-reference-v1\n" + scene.contentHash + "\n" + std::to_string(options.width) + "x" +
+                        std::to_string(options.height) + "\n" + ref.method + ":" + ref.params + "\nseed=" +
+                        std::to_string(options.seed) + "\nshaders=" + gl::shaderSourcesHash();
+  ref.cacheKey = hashText(keyText);
+  fs::path base = fs::path(cacheDir) / (scene.name + "-" + ref.cacheKey);
+  ref.cachePath = base.string();
+  std::string lsPath = base.string() + ".ls.exr", finalPath = base.string() + ".final.exr";
+  std::string jsonPath = base.string() + ".json";
+  if (fs::exists(lsPath) && fs::exists(finalPath) && fs::exists(jsonPath)) {
+    try {
+      ref.inscatter = readImage(lsPath);
+      ref.final = readImage(finalPath);
+      if (ref.inscatter.width == options.width && ref.inscatter.height == options.height &&
+          ref.final.width == options.width && ref.final.height == options.height) {
+        ref.fromCache = true;
+        return ref;
+      }
+    } catch (const std::exception&) {
+      // An unreadable cache entry is recomputed below.
+    }
+  }
+  auto start = std::chrono::steady_clock::now();
+  auto method = createMethod(resolved.method);
+  RunOptions refOptions = options;
+  refOptions.frames = 1;
+  refOptions.warmup = 0;
+  Runner runner(scene, limits, refOptions);
+  MethodRun run = runner.run(*method, resolved.params);
+  if (run.status != RunStatus::Success)
+    throw std::runtime_error("the reference (" + spec + ") failed: " + run.reason);
+  ref.inscatter = std::move(run.inscatter);
+  ref.final = std::move(run.final);
+  ref.computeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  try {
+    fs::create_directories(cacheDir);
+    writeExr(lsPath, ref.inscatter);
+    writeExr(finalPath, ref.final);
+    nlohmann::json meta = {{"key_text", keyText},   {"scene", scene.name}, {"scene_source", scene.source},
+                           {"method", ref.method},  {"params", ref.params}, {"width", options.width},
+                           {"height", options.height}, {"seed", options.seed}, {"compute_ms", ref.computeMs}};
+    writeFileAtomic(jsonPath, meta.dump(2) + "\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "warning: reference not cached (%s)\n", e.what());
+  }
+  return ref;
+}
+
+}  // namespace vs

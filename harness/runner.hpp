@@ -1,0 +1,78 @@
+// Runs one method on one scene: warm-up, measured frames, per-pass statistics, readback.
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "frame.hpp"
+#include "image.hpp"
+#include "method.hpp"
+#include "timer.hpp"
+
+namespace vs {
+
+struct RunOptions {
+  int width = 512, height = 512;
+  int frames = 20, warmup = 3;
+  uint32_t seed = 1;
+  TimerStrategy timer = TimerStrategy::WallClock;
+};
+
+enum class RunStatus { Success, Unsupported, Failure };
+const char* runStatusName(RunStatus s);
+
+struct MethodRun {
+  std::string method, params;  // params: canonical "key=value:..."
+  int shadowMapSize = 0;
+  RunStatus status = RunStatus::Success;
+  std::string reason;
+  std::vector<std::string> passes;  // passes that ran, in order
+  std::map<std::string, TimingStats> passStats;
+  TimingStats frame;
+  std::map<std::string, double> stats;
+  Image inscatter, final;
+  size_t nonFinitePixels = 0;
+};
+
+// Scene-wide GPU state shared by every method run at one size.
+class Runner {
+ public:
+  Runner(const Scene& scene, const gl::Limits& limits, RunOptions options);
+  // Never throws for a method's own failure: exceptions, GL errors and non-finite pixels become a
+  // Failure row with the reason; an unsupported scene becomes an Unsupported row.
+  // progress(frame, total) is called after each frame.
+  MethodRun run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress = {});
+  const Effects& effects() const { return effects_; }
+  const RunOptions& options() const { return options_; }
+
+ private:
+  const Scene& scene_;
+  const gl::Limits& limits_;
+  RunOptions options_;
+  Effects effects_;
+  std::unique_ptr<SceneGpu> geometry_;
+  std::unique_ptr<SharedPasses> shared_;
+};
+
+// Validates a method spec against the registry and the GL limits; throws UsageError.
+struct ResolvedSpec {
+  std::string method;
+  ParamValues params;
+};
+ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits);
+
+// The ray-marched reference: the registered method that declares referenceParams(), at the
+// largest shadow map of the run, cached on disk by a hash of everything that defines it.
+struct Reference {
+  std::string method, params, cacheKey, cachePath;
+  bool fromCache = false;
+  double computeMs = 0;
+  Image inscatter, final;
+};
+std::string defaultCacheDir();
+Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
+                          int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "");
+
+}  // namespace vs

@@ -1,0 +1,95 @@
+// Per-pass timing with two strategies, chosen by a calibration run at start-up:
+//  - GpuTimestamp: glQueryCounter(GL_TIMESTAMP) pairs, read a few frames late from a ring;
+//  - WallClock: glFinish before and after each pass, steady_clock in between.
+// llvmpipe's queries under-report draws and read 0 for compute, so there the wall clock wins.
+#pragma once
+#include <chrono>
+#include <deque>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gl.hpp"
+
+namespace vs {
+
+enum class TimerStrategy { GpuTimestamp, WallClock };
+const char* timerStrategyName(TimerStrategy s);
+
+struct TimerCalibration {
+  TimerStrategy chosen = TimerStrategy::WallClock;
+  double drawWallMs = 0, drawTimestampMs = 0, drawElapsedMs = 0;
+  double computeWallMs = 0, computeTimestampMs = 0, computeElapsedMs = 0;
+  std::string reason;
+};
+// Times a fragment-heavy draw and a compute dispatch both ways; picks GpuTimestamp only when its
+// deltas agree with the wall clock within 25 % for both.
+TimerCalibration calibrateTimer();
+
+struct TimingStats {
+  double medianMs = 0, minMs = 0, maxMs = 0, mdapePct = 0;
+  size_t samples = 0;
+};
+// MdAPE: median over samples of |x - median| / median, in percent.
+TimingStats summarise(std::vector<double> samplesMs);
+
+class PassTimer {
+ public:
+  explicit PassTimer(TimerStrategy strategy);
+  ~PassTimer();
+  PassTimer(const PassTimer&) = delete;
+  PassTimer& operator=(const PassTimer&) = delete;
+
+  class Scope {
+   public:
+    Scope(PassTimer& timer, std::string name);
+    ~Scope();
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    PassTimer& timer_;
+    std::string name_;
+  };
+  // Times everything issued until the returned object goes out of scope, under `name`.
+  Scope scope(std::string name) { return Scope(*this, std::move(name)); }
+
+  void beginFrame(bool record);
+  void endFrame();
+  void finish();  // reads every outstanding query
+
+  // Samples per pass name (ms), in first-seen order; "Frame" holds whole frames.
+  const std::vector<std::string>& passOrder() const { return order_; }
+  const std::map<std::string, std::vector<double>>& samples() const { return samples_; }
+  TimerStrategy strategy() const { return strategy_; }
+  static constexpr const char* kFrame = "Frame";
+
+ private:
+  void begin(const std::string& name);
+  void end(const std::string& name);
+  void record(const std::string& name, double ms);
+  GLuint acquireQuery();
+  void resolve(bool wait);
+
+  struct Pending {
+    std::string name;
+    GLuint begin = 0, end = 0;
+  };
+  struct PendingFrame {
+    std::vector<Pending> passes;
+  };
+  TimerStrategy strategy_;
+  bool recording_ = false;
+  bool inFrame_ = false;
+  std::chrono::steady_clock::time_point frameStart_;
+  std::vector<std::chrono::steady_clock::time_point> wallStarts_;
+  std::vector<std::string> open_;
+  std::vector<std::string> order_;
+  std::map<std::string, std::vector<double>> samples_;
+  std::vector<GLuint> freeQueries_, allQueries_;
+  PendingFrame current_;
+  std::deque<PendingFrame> ring_;
+  static constexpr size_t kFramesInFlight = 3;
+};
+
+}  // namespace vs

@@ -1,0 +1,19 @@
+// Every method the harness can run: adding a method is its folder plus one line here.
+#include "harness/method.hpp"
+#include "raymarch/raymarch.hpp"
+
+namespace vs {
+
+template <typename T>
+static MethodInfo entry() {
+  return {T().name(), [] { return std::make_unique<T>(); }};
+}
+
+const std::vector<MethodInfo>& registeredMethods() {
+  static const std::vector<MethodInfo> methods = {
+      entry<RaymarchMethod>(),
+  };
+  return methods;
+}
+
+}  // namespace vs
