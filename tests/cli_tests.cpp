@@ -1,0 +1,194 @@
+// End to end through the vshadow binary: listing, bad input, a shootout, killed runs, the cache.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "gl_test.hpp"
+#include "harness/results.hpp"
+
+namespace vs::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+int nonEmptyLines(const std::string& s) {
+  int n = 0;
+  std::istringstream in(s);
+  std::string line;
+  while (std::getline(in, line)) n += line.find_first_not_of(" \t\r") != std::string::npos;
+  return n;
+}
+
+TEST(CliTest, ListShowsScenesMethodsAndParameters) {
+  CommandResult r = runVshadow({"list"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (const char* s : {"spheres", "room", "fence", "trees", "terrain", "raymarch", "steps", "jitter", "sm"})
+    EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(CliTest, HelpExitsCleanly) {
+  CommandResult r = runVshadow({"--help"});
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_NE(r.out.find("shootout"), std::string::npos);
+}
+
+struct BadInput {
+  const char* name;
+  std::vector<std::string> args;  // "%DIR%" is replaced by a temp folder holding fixture files
+  const char* expectInError;
+};
+
+void PrintTo(const BadInput& b, std::ostream* os) { *os << b.name; }
+
+class BadInputTest : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(BadInputTest, OneClearLineNonZeroExitNothingWritten) {
+  const BadInput& bad = GetParam();
+  std::string dir = makeTempDir("bad");
+  writeFile(dir + "/malformed.json", "{ \"camera\": [1, 2,, }");
+  writeFile(dir + "/unknown-key.json", R"({"geometry": [], "camera": {}, "light": {"type": "point"}, "colour": 1})");
+  const std::string camera = R"("camera": {"position": [0, 1, 5], "target": [0, 0, 0]})";
+  writeFile(dir + "/bad-gltf.json", R"({"geometry": [{"gltf": "broken.gltf"}], )" + camera + "}");
+  writeFile(dir + "/broken.gltf", "{ \"asset\": {\"version\": \"2.0\"}, \"buffers\": [ ");
+  writeFile(dir + "/missing-gltf.json", R"({"geometry": [{"gltf": "nowhere.gltf"}], )" + camera + "}");
+  // An output folder that already holds results: bad input must leave it untouched.
+  std::string out = dir + "/out";
+  fs::create_directories(out);
+  writeFile(out + "/runs.csv", "sentinel\n");
+  std::vector<std::string> args;
+  for (std::string a : bad.args) {
+    auto pos = a.find("%DIR%");
+    if (pos != std::string::npos) a.replace(pos, 5, dir);
+    args.push_back(a);
+  }
+  args.insert(args.end(), {"--out", out, "--cache", dir + "/cache"});
+  CommandResult r = runVshadow(args);
+  EXPECT_NE(r.exitCode, 0) << bad.name;
+  EXPECT_EQ(nonEmptyLines(r.err), 1) << bad.name << ": " << r.err;
+  EXPECT_NE(r.err.find(bad.expectInError), std::string::npos) << bad.name << ": " << r.err;
+  EXPECT_EQ(readFile(out + "/runs.csv"), "sentinel\n");
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(out)) files.push_back(e.path().filename().string());
+  EXPECT_EQ(files, std::vector<std::string>{"runs.csv"}) << bad.name;
+  EXPECT_FALSE(fs::exists(dir + "/cache")) << bad.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadInputTest,
+    ::testing::Values(
+        BadInput{"missing_scene", {"run", "--scene", "%DIR%/nope.json", "--method", "raymarch"}, "nope.json"},
+        BadInput{"malformed_json", {"run", "--scene", "%DIR%/malformed.json", "--method", "raymarch"}, "malformed.json"},
+        BadInput{"unknown_scene_key", {"run", "--scene", "%DIR%/unknown-key.json", "--method", "raymarch"}, "colour"},
+        BadInput{"malformed_gltf", {"run", "--scene", "%DIR%/bad-gltf.json", "--method", "raymarch"}, "broken.gltf"},
+        BadInput{"missing_gltf", {"run", "--scene", "%DIR%/missing-gltf.json", "--method", "raymarch"}, "nowhere.gltf"},
+        BadInput{"unknown_method", {"run", "--scene", "spheres", "--method", "nosuch"}, "unknown method 'nosuch'"},
+        BadInput{"unknown_key", {"run", "--scene", "spheres", "--method", "raymarch:stepz=4"}, "stepz"},
+        BadInput{"out_of_range", {"run", "--scene", "spheres", "--method", "raymarch:steps=0"}, "out of range"},
+        BadInput{"not_a_number", {"run", "--scene", "spheres", "--method", "raymarch:steps=many"}, "not an integer"},
+        BadInput{"nan_value", {"run", "--scene", "spheres", "--method", "raymarch:sm=nan"}, "sm=nan"},
+        BadInput{"shadow_map_over_limit", {"run", "--scene", "spheres", "--method", "raymarch:sm=1048576"}, "out of range"},
+        BadInput{"size_over_gl_limit", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "999999x16"},
+                 "exceeds"},
+        BadInput{"malformed_size", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "big"}, "--size"},
+        BadInput{"unknown_option", {"run", "--scene", "spheres", "--method", "raymarch", "--colour"}, "colour"},
+        BadInput{"bad_frames", {"run", "--scene", "spheres", "--method", "raymarch", "--frames", "0"}, "frames"}),
+    [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
+
+CsvTable loadCsv(const std::string& path, std::vector<std::string> header, size_t keys) {
+  CsvTable t(std::move(header), keys);
+  t.loadExisting(path);
+  return t;
+}
+
+TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
+  std::string dir = makeTempDir("shootout");
+  std::string out = dir + "/out";
+  CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--size", "64x48", "--frames", "3", "--warmup", "1",
+                                "--out", out, "--cache", dir + "/cache", "--strict-gl"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  CsvTable runs = loadCsv(out + "/runs.csv", runsCsvHeader(), 3);
+  CsvTable passes = loadCsv(out + "/passes.csv", passesCsvHeader(), 4);
+  ASSERT_GE(runs.rows().size(), 3u);
+  for (const auto& row : runs.rows()) {
+    EXPECT_EQ(row[3], "Success") << row[4];
+    EXPECT_FALSE(row[11].empty());  // rmse
+  }
+  EXPECT_GE(passes.rows().size(), runs.rows().size() * 5);
+  auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));
+  for (const char* key : {"command_line", "git_sha", "date", "gl", "egl", "cpu", "timer", "width", "height"})
+    EXPECT_TRUE(meta.contains(key)) << key;
+  EXPECT_EQ(meta["status"], "finished");
+  EXPECT_FALSE(meta["gl"]["renderer"].get<std::string>().empty());
+  EXPECT_TRUE(fs::exists(out + "/images/spheres/reference.final.exr"));
+  int pngs = 0, errors = 0;
+  for (const auto& e : fs::directory_iterator(out + "/images/spheres")) {
+    std::string name = e.path().filename().string();
+    pngs += name.size() > 4 && name.substr(name.size() - 4) == ".png";
+    errors += name.find(".error.png") != std::string::npos;
+  }
+  EXPECT_GE(errors, 3);
+  EXPECT_GT(pngs, errors);
+  // The plot script turns runs.csv into an error-vs-time figure.
+  std::string plot = std::string(VS_SOURCE_DIR) + "/scripts/plot";
+  std::string cmd = plot + " " + out + "/runs.csv -o " + out + "/plot.png > " + dir + "/plot.log 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/plot.log");
+  EXPECT_GT(fs::file_size(out + "/plot.png"), 1000u);
+
+  // A second run reuses the cached reference.
+  CommandResult again = runVshadow({"run", "--scene", "spheres", "--size", "64x48", "--frames", "2", "--warmup", "0",
+                                    "--method", "raymarch:steps=8", "--out", out, "--cache", dir + "/cache",
+                                    "--no-images"});
+  ASSERT_EQ(again.exitCode, 0) << again.err;
+  auto meta2 = nlohmann::json::parse(readFile(out + "/meta.json"));
+  EXPECT_TRUE(meta2["reference"]["from_cache"].get<bool>());
+  // Rows from the first run stay; the re-run row replaces its old self.
+  EXPECT_EQ(loadCsv(out + "/runs.csv", runsCsvHeader(), 3).rows().size(), runs.rows().size());
+}
+
+TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
+  std::string dir = makeTempDir("killed");
+  std::string out = dir + "/out";
+  std::string bin = vshadowPath();
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, 1);
+    ::dup2(devnull, 2);
+    std::string cache = dir + "/cache";
+    ::execl(bin.c_str(), bin.c_str(), "shootout", "--scene", "spheres", "--size", "96x64", "--frames", "30",
+            "--out", out.c_str(), "--cache", cache.c_str(), "--no-images", (char*)nullptr);
+    ::_exit(127);
+  }
+  // Wait for the first finished row, then kill without warning.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  size_t rows = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(out + "/runs.csv")) {
+      rows = CsvTable::parse(readFile(out + "/runs.csv")).size();
+      if (rows >= 2) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_GE(rows, 2u) << "no row was finished in time";
+  auto parsed = CsvTable::parse(readFile(out + "/runs.csv"));
+  ASSERT_EQ(parsed[0], runsCsvHeader());
+  for (size_t i = 1; i < parsed.size(); ++i) {
+    ASSERT_EQ(parsed[i].size(), runsCsvHeader().size());
+    EXPECT_EQ(parsed[i][3], "Success");
+  }
+  // The meta sidecar is complete JSON (it says the run did not finish).
+  auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));
+  EXPECT_EQ(meta["status"], "running");
+}
+
+}  // namespace
+}  // namespace vs::testing

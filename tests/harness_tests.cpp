@@ -1,0 +1,177 @@
+// Timer, result files, effects and method-spec parsing.
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "gl_test.hpp"
+#include "harness/effects.hpp"
+#include "harness/results.hpp"
+#include "harness/timer.hpp"
+
+namespace vs::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TimerTest : public GlTest {};
+
+TEST(TimingStatsTest, MedianMinMaxAndMdape) {
+  TimingStats s = summarise({10, 12, 8, 10, 30});
+  EXPECT_DOUBLE_EQ(s.medianMs, 10);
+  EXPECT_DOUBLE_EQ(s.minMs, 8);
+  EXPECT_DOUBLE_EQ(s.maxMs, 30);
+  // |x - 10| / 10: 0, 20, 20, 0, 200 -> median 20 %.
+  EXPECT_DOUBLE_EQ(s.mdapePct, 20);
+  EXPECT_EQ(s.samples, 5u);
+}
+
+TEST_F(TimerTest, WallClockAgreesWithCpuTimedWork) {
+  PassTimer timer(TimerStrategy::WallClock);
+  for (int frame = 0; frame < 3; ++frame) {
+    timer.beginFrame(frame > 0);
+    {
+      auto scope = timer.scope("Sleep");
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    }
+    {
+      auto scope = timer.scope("Nothing");
+    }
+    timer.endFrame();
+  }
+  timer.finish();
+  ASSERT_EQ(timer.samples().at("Sleep").size(), 2u);
+  for (double ms : timer.samples().at("Sleep")) {
+    EXPECT_GE(ms, 30.0);
+    EXPECT_LT(ms, 45.0);
+  }
+  for (double ms : timer.samples().at("Nothing")) EXPECT_LT(ms, 5.0);
+  for (double ms : timer.samples().at(PassTimer::kFrame)) EXPECT_GE(ms, 30.0);
+}
+
+TEST_F(TimerTest, GpuTimestampStrategyRecordsEveryPass) {
+  gl::Texture target = gl::createTexture2D(GL_RGBA8, 64, 64);
+  gl::Framebuffer fbo = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, target.id()}});
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  PassTimer timer(TimerStrategy::GpuTimestamp);
+  for (int frame = 0; frame < 6; ++frame) {
+    timer.beginFrame(true);
+    {
+      auto scope = timer.scope("Clear");
+      glClear(GL_COLOR_BUFFER_BIT);
+    }
+    timer.endFrame();
+  }
+  timer.finish();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  EXPECT_EQ(timer.samples().at("Clear").size(), 6u);
+  EXPECT_EQ(timer.samples().at(PassTimer::kFrame).size(), 6u);
+}
+
+TEST_F(TimerTest, CalibrationPicksWallClockWhereQueriesDisagree) {
+  TimerCalibration c = calibrateTimer();
+  std::printf("calibration: %s\n", c.reason.c_str());
+  EXPECT_GT(c.drawWallMs, 1.0);
+  EXPECT_GT(c.computeWallMs, 0.0);
+  bool agree = std::fabs(c.drawTimestampMs - c.drawWallMs) < 0.25 * c.drawWallMs &&
+               std::fabs(c.computeTimestampMs - c.computeWallMs) < 0.25 * c.computeWallMs;
+  EXPECT_EQ(c.chosen, agree ? TimerStrategy::GpuTimestamp : TimerStrategy::WallClock);
+  // llvmpipe's queries are known to under-report draws and read zero for compute.
+  if (isLlvmpipe()) {
+    EXPECT_EQ(c.chosen, TimerStrategy::WallClock);
+  }
+}
+
+TEST(ResultsTest, CsvRoundTripsQuotesAndCommas) {
+  std::vector<std::string> row = {"a", "b,c", "say \"hi\"", "", "multi\nline"};
+  auto parsed = CsvTable::parse(CsvTable::format(row) + CsvTable::format({"1", "2", "3", "4", "5"}));
+  ASSERT_EQ(parsed.size(), 2u);
+  EXPECT_EQ(parsed[0], row);
+}
+
+TEST(ResultsTest, RunsAndPassesHaveTheDocumentedColumns) {
+  auto has = [](const std::vector<std::string>& h, const std::string& c) {
+    return std::find(h.begin(), h.end(), c) != h.end();
+  };
+  for (const char* c : {"scene", "method", "params", "status", "frame_median_ms", "rmse", "psnr", "ssim", "relmse",
+                        "max_abs", "ls_rmse", "passes", "renderer", "timer", "unstable", "frame_mdape_pct"})
+    EXPECT_TRUE(has(runsCsvHeader(), c)) << c;
+  for (const char* c : {"scene", "method", "params", "pass", "median_ms", "min_ms", "max_ms", "mdape_pct"})
+    EXPECT_TRUE(has(passesCsvHeader(), c)) << c;
+}
+
+TEST(ResultsTest, UpsertReplacesByKeyAndSaveIsAtomic) {
+  std::string dir = makeTempDir("csv");
+  std::string path = dir + "/t.csv";
+  CsvTable t({"k1", "k2", "v"}, 2);
+  t.upsert({"a", "x", "1"});
+  t.upsert({"a", "y", "2"});
+  t.upsert({"a", "x", "3"});
+  t.save(path);
+  CsvTable again({"k1", "k2", "v"}, 2);
+  again.loadExisting(path);
+  ASSERT_EQ(again.rows().size(), 2u);
+  EXPECT_EQ(again.rows()[0][2], "3");
+  for (const auto& entry : fs::directory_iterator(dir)) EXPECT_EQ(entry.path().filename(), "t.csv");
+  CsvTable other({"different"}, 1);
+  EXPECT_THROW(other.loadExisting(path), std::runtime_error);
+  EXPECT_THROW(writeFileAtomic(dir + "/missing/sub/file", "x"), std::runtime_error);
+}
+
+TEST(ParamsTest, SpecsAreValidated) {
+  EXPECT_THROW(parseMethodSpec(""), UsageError);
+  EXPECT_THROW(parseMethodSpec("raymarch:steps"), UsageError);
+  EXPECT_THROW(parseMethodSpec("raymarch:steps=1:steps=2"), UsageError);
+  std::vector<ParamSpec> specs = {ParamSpec::integer("n", 4, 1, 8, "n"), ParamSpec::integer("sm", 64, 64, 128, "").pow2(),
+                                  ParamSpec::choice("mode", "a", {"a", "b"}, ""), ParamSpec::real("x", 0.5, 0, 1, "")};
+  EXPECT_EQ(ParamValues::parse("m", specs, {}).canonical(), "n=4:sm=64:mode=a:x=0.5");
+  EXPECT_THROW(ParamValues::parse("m", specs, {{"n", "9"}}), UsageError);
+  EXPECT_THROW(ParamValues::parse("m", specs, {{"n", "2.5"}}), UsageError);
+  EXPECT_THROW(ParamValues::parse("m", specs, {{"sm", "96"}}), UsageError);
+  EXPECT_THROW(ParamValues::parse("m", specs, {{"mode", "c"}}), UsageError);
+  EXPECT_THROW(ParamValues::parse("m", specs, {{"x", "nan"}}), UsageError);
+  EXPECT_THROW(ParamValues::parse("m", specs, {{"bogus", "1"}}), UsageError);
+  EXPECT_THROW(createMethod("no-such-method"), UsageError);
+}
+
+class EffectsTest : public GlTest {};
+
+TEST_F(EffectsTest, SceneWithoutMediumRunsNoScatteringPass) {
+  Scene scene = loadScene("spheres");
+  scene.medium = Medium{};
+  ASSERT_FALSE(deriveEffects(scene).scattering);
+  MethodRun run = renderScene(scene, "raymarch:steps=16:sm=256", 32, 32);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+  EXPECT_EQ(run.passes, (std::vector<std::string>{"Shadow Map", "G Buffer", "Direct Lighting", "Composite"}));
+  for (float v : run.inscatter.rgb) ASSERT_EQ(v, 0.0f);
+}
+
+TEST_F(EffectsTest, SceneWithMediumRunsTheMethodPasses) {
+  Scene scene = loadScene("spheres");
+  ASSERT_TRUE(deriveEffects(scene).scattering);
+  MethodRun run = renderScene(scene, "raymarch:steps=16:sm=256", 32, 32);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+  EXPECT_NE(std::find(run.passes.begin(), run.passes.end(), "Ray Marching"), run.passes.end());
+}
+
+TEST_F(EffectsTest, EveryLightTypeRendersFiniteImages) {
+  for (const char* type : {"point", "spot", "directional"}) {
+    std::string json = std::string(R"({"geometry": [{"generator": "plane", "params": {"center": [0,0,0], "size": [10, 10]}},
+        {"generator": "sphere", "params": {"center": [0,1,0], "radius": 1}}],
+      "camera": {"position": [0,2,8], "target": [0,1,0], "up": [0,1,0], "fov_y_deg": 50, "near": 0.1, "far": 50},
+      "light": {"type": ")") + type + R"(", )" +
+                       (std::string(type) == "directional" ? "" : R"("position": [0,6,0], )") +
+                       (std::string(type) == "point" ? "" : R"("direction": [0.2,-1,0.1], )") +
+                       (std::string(type) == "spot" ? R"("spot_inner_deg": 20, "spot_outer_deg": 35, )" : "") +
+                       R"("intensity": 20},
+      "medium": {"sigma_s": 0.05, "sigma_a": 0.01, "phase": "hg", "g": 0.3}})";
+    Scene scene = sceneFromJson(json);
+    MethodRun run = renderScene(scene, "raymarch:steps=32:sm=256", 32, 32);
+    ASSERT_EQ(run.status, RunStatus::Success) << type << ": " << run.reason;
+    double sum = 0;
+    for (float v : run.inscatter.rgb) sum += v;
+    EXPECT_GT(sum, 0.0) << type;
+  }
+}
+
+}  // namespace
+}  // namespace vs::testing
