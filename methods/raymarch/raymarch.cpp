@@ -26,7 +26,7 @@ std::vector<std::string> RaymarchMethod::qualityLadder() const {
   return {"steps=8", "steps=16", "steps=32", "steps=64", "steps=128", "steps=256"};
 }
 
-std::string RaymarchMethod::referenceParams() const { return "steps=1024:jitter=1"; }
+std::string RaymarchMethod::referenceParams() const { return "steps=4096:jitter=1"; }
 
 void RaymarchMethod::setup(const SetupContext& context, const ParamValues& params) {
   steps_ = params.getInt("steps");
