@@ -1,6 +1,7 @@
 // Every method the harness can run: adding a method is its folder plus one line here.
 #include "harness/method.hpp"
 #include "raymarch/raymarch.hpp"
+#include "vsv/vsv.hpp"
 
 namespace vs {
 
@@ -12,6 +13,7 @@ static MethodInfo entry() {
 const std::vector<MethodInfo>& registeredMethods() {
   static const std::vector<MethodInfo> methods = {
       entry<RaymarchMethod>(),
+      entry<VsvMethod>(),
   };
   return methods;
 }

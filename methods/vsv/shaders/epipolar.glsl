@@ -1,0 +1,86 @@
+// Epipolar space of the VSV grid (Wyman 2011, §2.1) and the voxel-buffer layout (§2.2).
+// Mirrors vs::vsv::GridUniforms and the CPU functions in methods/vsv/vsv.cpp.
+layout(std140, binding = 1) uniform VsvBlock {
+  vec4 eyeAndDistance;  // xyz eye; w = distance to the grid light (> 0)
+  vec4 gridLight;       // xyz light on the axis at that distance
+  vec4 axis;            // unit, eye towards light
+  vec4 e1;              // axis, e1, e2 orthonormal; θ = 0 along e1
+  vec4 e2;
+  ivec4 grid;           // N_α, N_θ, N_φ, layers of 128 φ bits
+  vec4 fixedRanges;     // α_max, φ_max without dynamic ranges; z = 1 when dynamic (§4.3)
+} vsv;
+
+// Dynamic angular ranges (§4.3), reduced over the G-buffer as float bits by ranges.comp.
+#ifdef VSV_RANGES_WRITABLE
+layout(std430, binding = 0) buffer VsvRanges {
+#else
+layout(std430, binding = 0) readonly buffer VsvRanges {
+#endif
+  uint alphaMaxBits;
+  uint phiMaxBits;
+} vsvRanges;
+
+const float TWO_PI = 6.28318530717958647692;
+
+int nAlpha() { return vsv.grid.x; }
+int nTheta() { return vsv.grid.y; }
+int nPhi() { return vsv.grid.z; }
+float gridDistance() { return vsv.eyeAndDistance.w; }
+
+float alphaMax() {
+  if (vsv.fixedRanges.z < 0.5) return vsv.fixedRanges.x;
+  return clamp(uintBitsToFloat(vsvRanges.alphaMaxBits), 1e-4, PI);
+}
+float phiMax() {
+  if (vsv.fixedRanges.z < 0.5) return vsv.fixedRanges.y;
+  return clamp(uintBitsToFloat(vsvRanges.phiMaxBits), 1e-4, PI);
+}
+
+// atan2 that is defined at the origin (§4.2: a vertex on the epipole).
+float safeAtan(float y, float x) { return (abs(x) + abs(y) > 1e-30) ? atan(y, x) : 0.0; }
+
+// Coordinates of a direction or offset from the eye in the epipolar frame.
+float thetaOf(vec3 offsetFromEye) {
+  vec2 perp = vec2(dot(offsetFromEye, vsv.e1.xyz), dot(offsetFromEye, vsv.e2.xyz));
+  float theta = safeAtan(perp.y, perp.x);
+  return theta < 0.0 ? theta + TWO_PI : theta;
+}
+// (x along the axis, y >= 0 distance from it) in the point's own epipolar half-plane.
+vec2 planeCoords(vec3 offsetFromEye) {
+  float x = dot(offsetFromEye, vsv.axis.xyz);
+  vec2 perp = vec2(dot(offsetFromEye, vsv.e1.xyz), dot(offsetFromEye, vsv.e2.xyz));
+  return vec2(x, length(perp));
+}
+float alphaOfPlane(vec2 p) { return safeAtan(p.y, p.x); }
+float phiOfPlane(vec2 p) { return safeAtan(p.y, gridDistance() - p.x); }
+vec3 epipolarCoords(vec3 world) {  // (θ, α, φ)
+  vec3 offset = world - vsv.eyeAndDistance.xyz;
+  vec2 p = planeCoords(offset);
+  return vec3(thetaOf(offset), alphaOfPlane(p), phiOfPlane(p));
+}
+
+int thetaRow(float theta) { return clamp(int(theta / TWO_PI * float(nTheta())), 0, nTheta() - 1); }
+// -1 at or beyond the range: nothing there is seen.
+int alphaColumn(float alpha, float aMax) {
+  if (!(alpha < aMax)) return -1;
+  return clamp(int(alpha / aMax * float(nAlpha())), 0, nAlpha() - 1);
+}
+int phiBin(float phi, float pMax) {
+  if (!(phi < pMax)) return -1;
+  return clamp(int(phi / pMax * float(nPhi())), 0, nPhi() - 1);
+}
+
+// Unit vector from the eye towards θ in its half-plane, perpendicular to the axis.
+vec3 halfPlaneDir(float theta) { return cos(theta) * vsv.e1.xyz + sin(theta) * vsv.e2.xyz; }
+
+// Bits lo..hi (inclusive, bin numbers) that fall into 32-bit word `word` of the whole φ range.
+uint wordMask(int lo, int hi, int word) {
+  int a = max(lo - 32 * word, 0), b = min(hi - 32 * word, 31);
+  if (a > b) return 0u;
+  uint upper = b == 31 ? 0xffffffffu : ((1u << uint(b + 1)) - 1u);
+  return upper & ~((1u << uint(a)) - 1u);
+}
+uvec4 layerMask(int lo, int hi, int layer) {
+  int w = 4 * layer;
+  return uvec4(wordMask(lo, hi, w), wordMask(lo, hi, w + 1), wordMask(lo, hi, w + 2), wordMask(lo, hi, w + 3));
+}

@@ -1,0 +1,53 @@
+#version 450 core
+// "Voxelize: From SM" (§4.1.3): one point per (θ row, φ bin). The light ray at the cell centre is
+// looked up in the shadow map; its first occluder becomes one bit at (α_d, θ).
+#include "common.glsl"
+#include "epipolar.glsl"
+layout(binding = 8) uniform sampler2D shadowDepth2D;
+layout(binding = 9) uniform samplerCube shadowDepthCube;
+flat out int vBin;
+
+// Distance along the light's perspective depth axis stored as window depth.
+float linearDepth(float windowDepth) {
+  float n = u.shadowParams.x, f = u.shadowParams.y;
+  float zNdc = windowDepth * 2.0 - 1.0;
+  return 2.0 * f * n / max((f + n) - zNdc * (f - n), 1e-20);
+}
+
+// Distance from the light to the first occluder along unit direction w; false when none.
+bool occluderDistance(vec3 w, out float t) {
+  t = 0.0;
+  if (lightType() == LIGHT_POINT) {
+    float depth = textureLod(shadowDepthCube, w, 0.0).r;
+    if (depth >= 1.0) return false;
+    float major = max(abs(w.x), max(abs(w.y), abs(w.z)));
+    t = linearDepth(depth) / max(major, 1e-6);
+    return true;
+  }
+  vec4 clip = u.lightViewProj * vec4(u.lightPos.xyz + w, 1.0);
+  if (clip.w <= 1e-6) return false;
+  vec2 st = clip.xy / clip.w * 0.5 + 0.5;
+  if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return false;
+  float depth = textureLod(shadowDepth2D, st, 0.0).r;
+  if (depth >= 1.0) return false;
+  t = linearDepth(depth) / max(dot(w, u.lightDir.xyz), 1e-6);
+  return true;
+}
+
+void main() {
+  gl_PointSize = 1.0;
+  vBin = gl_VertexID % nPhi();
+  int row = gl_VertexID / nPhi();
+  float theta = (float(row) + 0.5) / float(nTheta()) * TWO_PI;
+  float phi = (float(vBin) + 0.5) / float(nPhi()) * phiMax();
+  vec3 w = cos(phi) * -vsv.axis.xyz + sin(phi) * halfPlaneDir(theta);
+  float t;
+  int col = -1;
+  if (occluderDistance(w, t)) col = alphaColumn(epipolarCoords(u.lightPos.xyz + t * w).y, alphaMax());
+  if (col < 0) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: no bit
+    return;
+  }
+  vec2 texel = (vec2(col, row) + 0.5) / vec2(nAlpha(), nTheta());
+  gl_Position = vec4(texel * 2.0 - 1.0, 0.0, 1.0);
+}

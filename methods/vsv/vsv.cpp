@@ -1,0 +1,299 @@
+#include "vsv.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace vs {
+namespace vsv {
+
+static constexpr double kPi = 3.14159265358979323846;
+
+static double safeAtan2(double y, double x) { return std::fabs(x) + std::fabs(y) > 1e-300 ? std::atan2(y, x) : 0.0; }
+
+EpipolarBasis makeBasis(glm::dvec3 eye, glm::dvec3 light, glm::dvec3 fallbackAxis, double minDistance) {
+  EpipolarBasis b;
+  b.eye = eye;
+  glm::dvec3 toLight = light - eye;
+  double len = glm::length(toLight);
+  if (len > 1e-12 && std::isfinite(len)) {
+    b.axis = toLight / len;
+  } else {
+    double f = glm::length(fallbackAxis);
+    b.axis = f > 1e-12 ? fallbackAxis / f : glm::dvec3(0, 0, -1);
+  }
+  // Light at or near the eye (§4.2): keep the grid's light a small distance along the axis.
+  b.distance = std::max(std::isfinite(len) ? len : 0.0, std::max(minDistance, 1e-9));
+  b.light = eye + b.axis * b.distance;
+  glm::dvec3 helper = std::fabs(b.axis.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  b.e1 = glm::normalize(glm::cross(b.axis, helper));
+  b.e2 = glm::cross(b.axis, b.e1);
+  return b;
+}
+
+EpiCoords toEpipolar(const EpipolarBasis& b, glm::dvec3 point) {
+  glm::dvec3 offset = point - b.eye;
+  double x = glm::dot(offset, b.axis);
+  double p1 = glm::dot(offset, b.e1), p2 = glm::dot(offset, b.e2);
+  double y = std::sqrt(p1 * p1 + p2 * p2);
+  EpiCoords c;
+  c.theta = safeAtan2(p2, p1);
+  if (c.theta < 0) c.theta += 2.0 * kPi;
+  c.alpha = safeAtan2(y, x);
+  c.phi = safeAtan2(y, b.distance - x);
+  return c;
+}
+
+int thetaRow(double theta, int nTheta) { return std::clamp(int(theta / (2.0 * kPi) * nTheta), 0, nTheta - 1); }
+int alphaColumn(double alpha, double alphaMax, int nAlpha) {
+  if (!(alpha < alphaMax)) return -1;
+  return std::clamp(int(alpha / alphaMax * nAlpha), 0, nAlpha - 1);
+}
+int phiBin(double phi, double phiMax, int nPhi) {
+  if (!(phi < phiMax)) return -1;
+  return std::clamp(int(phi / phiMax * nPhi), 0, nPhi - 1);
+}
+
+GridUniforms makeGridUniforms(const EpipolarBasis& b, const GridSize& size, bool dynamicRanges) {
+  GridUniforms g{};
+  g.eye = glm::vec4(glm::vec3(b.eye), float(b.distance));
+  g.light = glm::vec4(glm::vec3(b.light), 1.0f);
+  g.axis = glm::vec4(glm::vec3(b.axis), 0.0f);
+  g.e1 = glm::vec4(glm::vec3(b.e1), 0.0f);
+  g.e2 = glm::vec4(glm::vec3(b.e2), 0.0f);
+  g.grid = glm::ivec4(size.nAlpha, size.nTheta, size.nPhi, size.layers());
+  g.ranges = glm::vec4(float(kPi), float(kPi), dynamicRanges ? 1.0f : 0.0f, 0.0f);
+  return g;
+}
+
+void prefixOrRowsCpu(std::vector<uint32_t>& words, const GridSize& size) {
+  const size_t texel = 4, row = texel * size_t(size.nAlpha);
+  for (int layer = 0; layer < size.layers(); ++layer) {
+    for (int r = 0; r < size.nTheta; ++r) {
+      uint32_t* base = &words[(size_t(layer) * size.nTheta + r) * row];
+      for (int col = 1; col < size.nAlpha; ++col)
+        for (size_t c = 0; c < texel; ++c) base[col * texel + c] |= base[(col - 1) * texel + c];
+    }
+  }
+}
+
+VoxelBuffer::VoxelBuffer(const GridSize& size) : size_(size) {
+  if (size.nPhi % 128 != 0 || size.layers() < 1 || size.layers() > 8)
+    throw std::invalid_argument("vsv: N_phi must be 128, 256, ..., 1024 (128 bits per texel, at most 8 targets)");
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+  texture_ = gl::Texture(id);
+  glTextureStorage3D(id, 1, GL_RGBA32UI, size.nAlpha, size.nTheta, size.layers());
+  // Integer textures are incomplete (texelFetch returns 0) unless both filters are NEAREST.
+  gl::setFilter(id, GL_NEAREST, GL_NEAREST);
+  glCreateFramebuffers(1, &id);
+  fbo_ = gl::Framebuffer(id);
+  std::vector<GLenum> drawBuffers;
+  for (int layer = 0; layer < size.layers(); ++layer) {
+    glNamedFramebufferTextureLayer(id, GL_COLOR_ATTACHMENT0 + layer, texture_.id(), 0, layer);
+    drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + layer);
+  }
+  glNamedFramebufferDrawBuffers(id, GLsizei(drawBuffers.size()), drawBuffers.data());
+  gl::checkFramebuffer(id, "vsv voxel buffer");
+}
+
+void VoxelBuffer::clear() const {
+  const GLuint zero[4] = {0, 0, 0, 0};
+  glClearTexImage(texture_.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zero);
+}
+
+std::vector<uint32_t> VoxelBuffer::read() const {
+  std::vector<uint32_t> words(size_t(size_.nAlpha) * size_.nTheta * size_.layers() * 4);
+  glFinish();
+  glGetTextureImage(texture_.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(words.size() * 4), words.data());
+  return words;
+}
+
+void VoxelBuffer::write(const std::vector<uint32_t>& words) const {
+  glTextureSubImage3D(texture_.id(), 0, 0, 0, 0, size_.nAlpha, size_.nTheta, size_.layers(), GL_RGBA_INTEGER,
+                      GL_UNSIGNED_INT, words.data());
+}
+
+Scan::Scan() { program_ = gl::buildCompute("methods/vsv/shaders/scan.comp"); }
+
+void Scan::run(const VoxelBuffer& buffer) const {
+  const GridSize& s = buffer.size();
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glUseProgram(program_.id());
+  glUniform3i(0, s.nAlpha, s.nTheta, s.layers());
+  glBindImageTexture(0, buffer.texture(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32UI);
+  GLuint invocations = GLuint(s.nTheta * s.layers());
+  glDispatchCompute((invocations + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+}  // namespace vsv
+
+// ---- the method
+
+static constexpr const char* kVoxelizeSm = "Voxelize: From SM";
+static constexpr const char* kVoxelizeGeometry = "Voxelize: Geometry";
+static constexpr const char* kScan = "Scan VSV";
+static constexpr const char* kInscatter = "Compute L_s";
+static constexpr const char* kRanges = "Epipolar Ranges";
+
+std::string VsvMethod::description() const {
+  return "voxelized shadow volumes (Wyman 2011): epipolar bit grid from the shadow map or the geometry, "
+         "prefix-OR scan, per-pixel Riemann sum over phi";
+}
+
+Capabilities VsvMethod::capabilities() const {
+  Capabilities c;
+  c.pointLight = c.spotLight = true;
+  c.texturedLight = true;
+  c.homogeneousMedium = true;
+  c.henyeyGreenstein = true;
+  return c;
+}
+
+std::vector<ParamSpec> VsvMethod::params() const {
+  return {ParamSpec::integer("alpha", 256, 8, 8192, "N_alpha: columns (eye angle from the light axis)"),
+          ParamSpec::integer("theta", 512, 8, 8192, "N_theta: rows (epipolar planes)"),
+          ParamSpec::integer("phi", 256, 128, 1024, "N_phi: bits per column (light angle), 128 per render target").pow2(),
+          ParamSpec::choice("vox", "sm", {"sm", "geom"}, "voxelizer: resample the shadow map or rasterize triangles"),
+          ParamSpec::flag("ranges", true, "dynamic angular ranges: alpha_max from the pixels, phi_max from visible geometry"),
+          ParamSpec::integer("coarse", 4, 1, 64, "phi bins per light evaluation when the light is textured")};
+}
+
+std::vector<std::string> VsvMethod::qualityLadder() const {
+  return {"alpha=64:theta=128:phi=128", "alpha=128:theta=256:phi=128", "alpha=256:theta=512:phi=256",
+          "alpha=512:theta=1024:phi=512", "alpha=512:theta=2048:phi=512"};
+}
+
+void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
+  size_.nAlpha = params.getInt("alpha");
+  size_.nTheta = params.getInt("theta");
+  size_.nPhi = params.getInt("phi");
+  fromGeometry_ = params.getString("vox") == "geom";
+  dynamicRanges_ = params.getBool("ranges");
+  coarse_ = params.getInt("coarse");
+  width_ = context.width;
+  height_ = context.height;
+  if (size_.nAlpha > context.limits.maxViewportW || size_.nTheta > context.limits.maxViewportH)
+    throw std::runtime_error("vsv: grid larger than the GL viewport limit");
+  glm::vec3 extent = context.geometry.boundsHi - context.geometry.boundsLo;
+  sceneRadius_ = std::max(0.5f * glm::length(extent), 1e-3f);
+
+  voxels_ = std::make_unique<vsv::VoxelBuffer>(size_);
+  GLuint vao = 0;
+  glCreateVertexArrays(1, &vao);
+  emptyVao_ = gl::VertexArray(vao);
+  scan_ = std::make_unique<vsv::Scan>();
+  gridUbo_ = gl::createBuffer(sizeof(vsv::GridUniforms));
+  rangesSsbo_ = gl::createBuffer(2 * sizeof(uint32_t));
+  const std::string defines = sceneDefines(context.effects) + "#define VSV_LAYERS " + std::to_string(size_.layers()) + "\n";
+  rangesProgram_ = gl::buildCompute("methods/vsv/shaders/ranges.comp", defines);
+  inscatterProgram_ = gl::buildFullscreen("methods/vsv/shaders/inscatter.frag", defines);
+  if (fromGeometry_) {
+    geometryProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "methods/vsv/shaders/voxelize_geom.vert"},
+                                         {GL_GEOMETRY_SHADER, "methods/vsv/shaders/voxelize_geom.geom"},
+                                         {GL_FRAGMENT_SHADER, "methods/vsv/shaders/voxelize_geom.frag"}},
+                                        defines);
+  } else {
+    fromSmProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "methods/vsv/shaders/voxelize_sm.vert"},
+                                       {GL_FRAGMENT_SHADER, "methods/vsv/shaders/voxelize_sm.frag"}},
+                                      defines);
+  }
+}
+
+void VsvMethod::updateGrid(const Frame& frame) {
+  const Camera& cam = frame.scene.camera;
+  glm::dvec3 eye(cam.position), light(frame.scene.light.position);
+  glm::dvec3 forward(frame.uniforms.cameraForward);
+  vsv::EpipolarBasis basis = vsv::makeBasis(eye, light, forward, 1e-4 * double(sceneRadius_));
+  vsv::GridUniforms g = vsv::makeGridUniforms(basis, size_, dynamicRanges_);
+  glNamedBufferSubData(gridUbo_.id(), 0, sizeof(g), &g);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 1, gridUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, rangesSsbo_.id());
+}
+
+void VsvMethod::computeRanges(const Frame& frame, PassTimer& timer) {
+  auto scope = timer.scope(kRanges);
+  const uint32_t zero = 0;
+  glClearNamedBufferData(rangesSsbo_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glUseProgram(rangesProgram_.id());
+  glDispatchCompute(GLuint((frame.width + 7) / 8), GLuint((frame.height + 7) / 8), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
+}
+
+// Both voxelizers OR fragments into every layer of the voxel buffer.
+static void beginOrTargets(const vsv::VoxelBuffer& voxels) {
+  voxels.clear();
+  glBindFramebuffer(GL_FRAMEBUFFER, voxels.framebuffer());
+  glViewport(0, 0, voxels.size().nAlpha, voxels.size().nTheta);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_COLOR_LOGIC_OP);
+  glLogicOp(GL_OR);
+}
+
+static void endOrTargets() {
+  glDisable(GL_COLOR_LOGIC_OP);
+  glLogicOp(GL_COPY);
+}
+
+void VsvMethod::voxelizeFromShadowMap(const Frame& frame, PassTimer& timer) {
+  auto scope = timer.scope(kVoxelizeSm);
+  (void)frame;
+  beginOrTargets(*voxels_);
+  glUseProgram(fromSmProgram_.id());
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glPointSize(1.0f);
+  glBindVertexArray(emptyVao_.id());  // attribute-less: positions come from gl_VertexID
+  glDrawArrays(GL_POINTS, 0, GLsizei(size_.nTheta) * size_.nPhi);
+  endOrTargets();
+}
+
+void VsvMethod::voxelizeGeometry(const Frame& frame, PassTimer& timer) {
+  auto scope = timer.scope(kVoxelizeGeometry);
+  beginOrTargets(*voxels_);
+  glUseProgram(geometryProgram_.id());
+  frame.geometry.draw();
+  endOrTargets();
+}
+
+void VsvMethod::integrate(const Frame& frame, PassTimer& timer) {
+  auto scope = timer.scope(kInscatter);
+  glBindFramebuffer(GL_FRAMEBUFFER, frame.inscatterFbo);
+  glViewport(0, 0, frame.width, frame.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(inscatterProgram_.id());
+  glBindTextureUnit(bind::kFirstMethodUnit, voxels_->texture());
+  glUniform1i(0, frame.effects.lightTexture ? coarse_ : 1);
+  gl::drawFullscreenTriangle();
+}
+
+void VsvMethod::render(const Frame& frame, PassTimer& timer) {
+  frame.bindShared();
+  updateGrid(frame);
+  if (dynamicRanges_) computeRanges(frame, timer);
+  if (fromGeometry_)
+    voxelizeGeometry(frame, timer);
+  else
+    voxelizeFromShadowMap(frame, timer);
+  {
+    auto scope = timer.scope(kScan);
+    scan_->run(*voxels_);
+  }
+  integrate(frame, timer);
+}
+
+std::map<std::string, double> VsvMethod::stats(const std::map<std::string, TimingStats>& passes) const {
+  std::map<std::string, double> out;
+  out["voxels"] = double(size_.nAlpha) * size_.nTheta * size_.nPhi;
+  auto it = passes.find(kInscatter);
+  if (it != passes.end() && it->second.medianMs > 0.0)
+    out["pixels_per_s"] = double(width_) * height_ / (it->second.medianMs * 1e-3);
+  return out;
+}
+
+}  // namespace vs
