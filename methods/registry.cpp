@@ -1,5 +1,6 @@
 // Every method the harness can run: adding a method is its folder plus one line here.
 #include "harness/method.hpp"
+#include "minmax/minmax.hpp"
 #include "raymarch/raymarch.hpp"
 #include "vsv/vsv.hpp"
 
@@ -13,6 +14,7 @@ static MethodInfo entry() {
 const std::vector<MethodInfo>& registeredMethods() {
   static const std::vector<MethodInfo> methods = {
       entry<RaymarchMethod>(),
+      entry<MinmaxMethod>(),
       entry<VsvMethod>(),
   };
   return methods;

@@ -1,0 +1,245 @@
+#include "epipolar.hpp"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+
+#include "traversal.hpp"
+
+namespace vs::minmax {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+double clampUnit(double x) { return std::clamp(x, -1.0, 1.0); }
+
+// Unit vector perpendicular to a.
+glm::dvec3 perpendicular(glm::dvec3 a) {
+  glm::dvec3 helper = std::fabs(a.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+  return glm::normalize(glm::cross(helper, a));
+}
+
+glm::dvec3 rotateAbout(glm::dvec3 v, glm::dvec3 axis, double angle) {
+  double c = std::cos(angle), s = std::sin(angle);
+  return v * c + glm::cross(axis, v) * s + axis * glm::dot(axis, v) * (1.0 - c);
+}
+
+// GL window coordinates of direction v seen from the eye; false when it is not in front.
+bool projectDirection(const ViewInput& in, glm::dvec3 v, glm::dvec2& pixel) {
+  glm::dvec4 clip = in.viewProj * glm::dvec4(in.eye + v, 1.0);
+  if (clip.w <= 1e-12) return false;
+  pixel = glm::dvec2((clip.x / clip.w * 0.5 + 0.5) * in.width, (clip.y / clip.w * 0.5 + 0.5) * in.height);
+  return true;
+}
+
+double wrapAngle(double a) {
+  a = std::fmod(a + kPi, 2.0 * kPi);
+  if (a < 0) a += 2.0 * kPi;
+  return a - kPi;
+}
+}  // namespace
+
+double phaseFunction(const MediumParams& m, double cosTheta) {
+  if (!m.hg) return 1.0 / (4.0 * kPi);
+  double g = m.g;
+  double denom = std::max(1.0 + g * g - 2.0 * g * clampUnit(cosTheta), 1e-12);
+  return (1.0 - g * g) / (4.0 * kPi * denom * std::sqrt(denom));
+}
+
+double smoothIntegrand(const MediumParams& m, double D, double beta, double gamma) {
+  if (m.directional) {
+    double sinBeta = std::max(std::sin(beta), 1e-9);
+    return m.sigmaS * phaseFunction(m, std::cos(beta)) * std::exp(-m.sigmaT * gamma / sinBeta);
+  }
+  double sinSum = std::sin(beta + gamma);
+  if (beta + gamma >= kPi || sinSum <= 1e-12) {
+    // Unreachable by the camera ray; continuous with the reachable side when sigma_t > 0.
+    return m.sigmaT > 0.0 ? 0.0 : m.sigmaS * phaseFunction(m, -1.0);
+  }
+  double path = D * (std::sin(gamma) + std::sin(beta)) / sinSum;  // s + r
+  return m.sigmaS * phaseFunction(m, std::cos(beta + gamma)) * std::exp(-m.sigmaT * path);
+}
+
+glm::dvec3 pixelRay(const ViewInput& in, double x, double y) {
+  glm::dvec4 ndc(x / in.width * 2.0 - 1.0, y / in.height * 2.0 - 1.0, 1.0, 1.0);
+  glm::dvec4 p = in.invViewProj * ndc;
+  glm::dvec3 d = glm::dvec3(p) / p.w - in.eye;
+  double len = glm::length(d);
+  return len > 1e-300 ? d / len : in.forward;
+}
+
+EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
+  EpipolarFrame f;
+  f.directional = in.directional;
+  glm::dvec3 extent = in.boundsHi - in.boundsLo;
+  double sceneScale = std::max({1.0, glm::length(extent), glm::length(in.eye)});
+  if (in.directional) {
+    double len = glm::length(in.lightTravelDir);
+    f.axis = len > 1e-300 ? -in.lightTravelDir / len : glm::dvec3(0, 1, 0);
+    f.eyeLightDistance = 1.0;
+  } else {
+    glm::dvec3 toLight = in.lightPos - in.eye;
+    f.eyeLightDistance = glm::length(toLight);
+    if (f.eyeLightDistance < 1e-6 * sceneScale) {
+      f.degenerate = true;
+      f.axis = in.forward;
+      f.eyeLightDistance = 1e-6 * sceneScale;
+    } else {
+      f.axis = toLight / f.eyeLightDistance;
+    }
+  }
+  f.n0 = perpendicular(f.axis);
+  f.n1 = glm::cross(f.axis, f.n0);
+
+  // The epipole: where the axis (or its antipode) meets the image plane.
+  glm::dvec4 clip = in.viewProj * glm::dvec4(in.eye + f.axis, 1.0);
+  double clipScale = std::max({std::fabs(clip.x), std::fabs(clip.y), std::fabs(clip.w), 1e-300});
+  if (std::fabs(clip.w) > 1e-9 * clipScale) {
+    f.epipoleValid = true;
+    f.epipolePixel = glm::dvec2((clip.x / clip.w * 0.5 + 0.5) * in.width, (clip.y / clip.w * 0.5 + 0.5) * in.height);
+  }
+  f.fullCircle = f.epipoleValid && f.epipolePixel.x >= -1.0 && f.epipolePixel.x <= in.width + 1.0 &&
+                 f.epipolePixel.y >= -1.0 && f.epipolePixel.y <= in.height + 1.0;
+
+  // Sample the screen: alpha range, slice density (pixels per radian of alpha), beta and gamma ranges.
+  const int samples = 33;
+  auto alphaOf = [&](glm::dvec3 v) {
+    glm::dvec3 perp = v - f.axis * glm::dot(v, f.axis);
+    return std::atan2(glm::dot(perp, f.n1), glm::dot(perp, f.n0));
+  };
+  double alphaCentre = alphaOf(pixelRay(in, 0.5 * in.width, 0.5 * in.height));
+  double relLo = 0.0, relHi = 0.0, pixelsPerRadian = 1.0;
+  double betaLo = kPi, betaHi = 0.0, gammaAll = 0.0;
+  for (int j = 0; j < samples; ++j) {
+    for (int i = 0; i < samples; ++i) {
+      double x = 0.5 + (in.width - 1.0) * i / (samples - 1.0);
+      double y = 0.5 + (in.height - 1.0) * j / (samples - 1.0);
+      glm::dvec3 v = pixelRay(in, x, y);
+      double rel = wrapAngle(alphaOf(v) - alphaCentre);
+      relLo = std::min(relLo, rel);
+      relHi = std::max(relHi, rel);
+      const double delta = 1e-4;
+      glm::dvec2 p0, p1;
+      if (projectDirection(in, v, p0) && projectDirection(in, rotateAbout(v, f.axis, delta), p1))
+        pixelsPerRadian = std::max(pixelsPerRadian, glm::length(p1 - p0) / delta);
+      double cosBeta = clampUnit(glm::dot(v, f.axis));
+      double sinBeta = glm::length(glm::cross(v, f.axis));
+      double beta = std::atan2(sinBeta, cosBeta);
+      betaLo = std::min(betaLo, beta);
+      betaHi = std::max(betaHi, beta);
+      double farDist = in.farZ / std::max(glm::dot(v, in.forward), 1e-6);
+      double gamma = in.directional ? farDist * sinBeta
+                                    : std::atan2(farDist * sinBeta, f.eyeLightDistance - farDist * cosBeta);
+      gammaAll = std::max(gammaAll, gamma);
+    }
+  }
+  if (f.fullCircle) {
+    f.alphaLo = -kPi;
+    f.alphaRange = 2.0 * kPi;
+    if (clip.w > 0) betaLo = 0.0; else betaHi = kPi;
+  } else {
+    double margin = 2.0 / pixelsPerRadian;  // two pixels on either side
+    f.alphaLo = alphaCentre + relLo - margin;
+    f.alphaRange = std::min(relHi - relLo + 2.0 * margin, 2.0 * kPi);
+  }
+  f.autoSlices = std::clamp(int(std::ceil(f.alphaRange * pixelsPerRadian)), 16, 8192);
+  f.betaLo = std::max(0.0, betaLo - 0.01);
+  f.betaHi = std::min(kPi, betaHi + 0.01);
+  if (!(f.betaHi > f.betaLo + 1e-6)) f.betaHi = std::min(kPi, f.betaLo + 1e-3);
+  if (in.directional) {
+    f.gammaAll = std::max(gammaAll * 1.02, 1e-6 * sceneScale);
+    double perpMax = 0.0;  // beyond the farthest scene corner from the axis line no light ray is blocked
+    for (int c = 0; c < 8; ++c) {
+      glm::dvec3 corner((c & 1) ? in.boundsHi.x : in.boundsLo.x, (c & 2) ? in.boundsHi.y : in.boundsLo.y,
+                        (c & 4) ? in.boundsHi.z : in.boundsLo.z);
+      glm::dvec3 d = corner - in.eye;
+      perpMax = std::max(perpMax, glm::length(d - f.axis * glm::dot(d, f.axis)));
+    }
+    f.gammaMap = std::clamp(perpMax * 1.01 + 1e-6 * sceneScale, 1e-6 * sceneScale, f.gammaAll);
+  } else {
+    f.gammaAll = std::clamp(gammaAll * 1.02 + 1e-4, 1e-4, kPi);
+    f.gammaMap = f.gammaAll;
+  }
+  return f;
+}
+
+double betaAtGrid(const EpipolarFrame& f, double t) {
+  return f.betaLo + (f.betaHi - f.betaLo) * 0.5 * (1.0 - std::cos(kPi * std::clamp(t, 0.0, 1.0)));
+}
+
+double gammaAtGrid(const EpipolarFrame& f, double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return f.gammaAll * t * t;
+}
+
+LowRank lowRankApproximation(const EpipolarFrame& f, const MediumParams& m, int rank, int prefixRes) {
+  Eigen::MatrixXd samples(kGrid, kGrid);
+  for (int r = 0; r < kGrid; ++r) {
+    double beta = betaAtGrid(f, r / (kGrid - 1.0));
+    for (int c = 0; c < kGrid; ++c)
+      samples(r, c) = smoothIntegrand(m, f.eyeLightDistance, beta, gammaAtGrid(f, c / (kGrid - 1.0)));
+  }
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(samples, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  LowRank lr;
+  lr.rank = std::clamp(rank, 1, kGrid);
+  lr.prefixRes = std::max(prefixRes, 1);
+  double total = sigma.squaredNorm(), kept = 0.0;
+  lr.basisBeta.resize(size_t(lr.rank) * kGrid);
+  lr.basisGamma.resize(size_t(lr.rank) * kGrid);
+  lr.prefix.resize(size_t(lr.rank) * (lr.prefixRes + 1));
+  for (int i = 0; i < lr.rank; ++i) {
+    kept += sigma(i) * sigma(i);
+    for (int k = 0; k < kGrid; ++k) {
+      lr.basisBeta[size_t(i) * kGrid + k] = float(sigma(i) * svd.matrixU()(k, i));
+      lr.basisGamma[size_t(i) * kGrid + k] = float(svd.matrixV()(k, i));
+    }
+    // Exact integral of the piecewise-linear Gamma_i (on the quadratic grid) at uniform gammas.
+    std::vector<double> nodeGamma(kGrid), nodePrefix(kGrid, 0.0);
+    for (int k = 0; k < kGrid; ++k) nodeGamma[k] = gammaAtGrid(f, k / (kGrid - 1.0));
+    auto value = [&](int k) { return svd.matrixV()(k, i); };
+    for (int k = 1; k < kGrid; ++k)
+      nodePrefix[k] = nodePrefix[k - 1] + 0.5 * (value(k - 1) + value(k)) * (nodeGamma[k] - nodeGamma[k - 1]);
+    int cell = 0;
+    for (int p = 0; p <= lr.prefixRes; ++p) {
+      double gamma = f.gammaAll * p / lr.prefixRes;
+      while (cell < kGrid - 2 && gamma > nodeGamma[cell + 1]) ++cell;
+      double h = nodeGamma[cell + 1] - nodeGamma[cell];
+      double t = h > 0.0 ? std::clamp((gamma - nodeGamma[cell]) / h, 0.0, 1.0) : 0.0;
+      double v0 = value(cell), v1 = value(cell + 1);
+      lr.prefix[size_t(i) * (lr.prefixRes + 1) + p] = float(nodePrefix[cell] + h * (v0 * t + 0.5 * (v1 - v0) * t * t));
+    }
+  }
+  lr.energy = total > 0.0 ? kept / total : 1.0;
+  return lr;
+}
+
+namespace {
+double interpolateGrid(const std::vector<float>& table, int i, double t) {
+  double x = std::clamp(t, 0.0, 1.0) * (kGrid - 1);
+  int k = std::min(int(x), kGrid - 2);
+  double w = x - k;
+  return table[size_t(i) * kGrid + k] * (1.0 - w) + table[size_t(i) * kGrid + k + 1] * w;
+}
+}  // namespace
+
+double evalBasisGamma(const EpipolarFrame& f, const LowRank& lr, int i, double gamma) {
+  return interpolateGrid(lr.basisGamma, i, std::sqrt(std::max(gamma, 0.0) / f.gammaAll));
+}
+
+double evalBasisBeta(const EpipolarFrame& f, const LowRank& lr, int i, double beta) {
+  double u = (beta - f.betaLo) / std::max(f.betaHi - f.betaLo, 1e-12);
+  return interpolateGrid(lr.basisBeta, i, std::acos(clampUnit(1.0 - 2.0 * u)) / kPi);
+}
+
+std::vector<MinMax> buildMinMaxTree(const std::vector<float>& row) {
+  size_t d = row.size();
+  std::vector<MinMax> tree(2 * d, MinMax{0.0f, 0.0f});
+  for (size_t j = 0; j < d; ++j) tree[d + j] = {row[j], row[j]};
+  for (size_t k = d - 1; k >= 1; --k)
+    tree[k] = {std::min(tree[2 * k].lo, tree[2 * k + 1].lo), std::max(tree[2 * k].hi, tree[2 * k + 1].hi)};
+  return tree;
+}
+
+}  // namespace vs::minmax

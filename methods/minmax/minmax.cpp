@@ -1,0 +1,254 @@
+#include "minmax.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vs {
+
+namespace {
+constexpr const char* kRectifyPass = "Shadow Map Rectification";
+constexpr const char* kLowRankPass = "Low-Rank Approximation";
+constexpr const char* kLightTexturePass = "Light Texture Precomputation";
+constexpr const char* kMipmapPass = "Mipmap Construction";
+constexpr const char* kIntegrationPass = "Integration";
+constexpr const char* kNearEpipolePass = "Near Epipole";
+constexpr int kPrefixRes = 1024;  // samples of the untextured prefix tables over gammaAll
+constexpr int kMaxRank = 16;      // kMaxRank in shaders/epipolar.glsl
+
+// Texture units after bind::kFirstMethodUnit (see the shaders).
+constexpr GLuint kUnitTree = 10, kUnitBasisBeta = 11, kUnitGammaPrefix = 12, kUnitTexturedPrefix = 13,
+                 kUnitBasisGamma = 14;
+constexpr GLuint kEpipolarUboBinding = 1;
+
+// std140 mirror of EpipolarBlock in shaders/epipolar.glsl.
+struct EpipolarUniforms {
+  glm::mat4 invLightViewProj;
+  glm::vec4 axis, basis0, basis1, gammaInfo, betaInfo, epipoleInfo;
+  glm::ivec4 counts, flags;
+};
+
+int nextPowerOfTwo(int v) {
+  int p = 1;
+  while (p < v) p <<= 1;
+  return p;
+}
+
+void dispatch2D(int width, int height) {
+  glDispatchCompute(GLuint((width + 63) / 64), GLuint(std::max(height, 1)), 1);
+}
+}  // namespace
+
+std::string MinmaxMethod::description() const {
+  return "Chen et al. 2011: epipolar rectification, 1D min-max mipmaps per slice, low-rank integrand";
+}
+
+Capabilities MinmaxMethod::capabilities() const {
+  Capabilities c;
+  c.pointLight = c.spotLight = c.directionalLight = true;
+  c.texturedLight = true;
+  c.homogeneousMedium = true;
+  c.henyeyGreenstein = true;
+  return c;
+}
+
+std::vector<ParamSpec> MinmaxMethod::params() const {
+  return {
+      ParamSpec::integer("slices", 0, 0, 8192, "epipolar slices; 0 = auto (every pixel within half a pixel of a slice)"),
+      ParamSpec::integer("rank", 4, 1, kMaxRank, "singular vectors kept of the 64x64 integrand SVD"),
+      ParamSpec::integer("res", 0, 0, 8192, "rectified row length (rounded up to a power of two); 0 = shadow-map size"),
+      ParamSpec::integer("tex_res", 256, 16, 4096, "gamma samples of the per-slice light-texture prefix sums"),
+      ParamSpec::real("epipole_radius", 8.0, 0.0, 100000.0, "pixels around the epipole that are ray marched"),
+      ParamSpec::integer("epipole_steps", 256, 1, 16384, "ray-march steps near the epipole"),
+      ParamSpec::flag("up_one_level", true, "traversal climbs at most one level per step (paper 3.5)"),
+      ParamSpec::flag("delay_gamma", true, "evaluate prefix sums once per lit run, not per lit node (paper 3.5)"),
+  };
+}
+
+std::vector<std::string> MinmaxMethod::qualityLadder() const {
+  return {"slices=128:rank=2:res=256", "slices=512:rank=3:res=512", "rank=4", "rank=6:epipole_steps=512"};
+}
+
+void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params) {
+  slicesParam_ = params.getInt("slices");
+  rank_ = params.getInt("rank");
+  rowParam_ = params.getInt("res");
+  textureRes_ = params.getInt("tex_res");
+  epipoleRadius_ = params.getFloat("epipole_radius");
+  epipoleSteps_ = params.getInt("epipole_steps");
+  upOneLevel_ = params.getBool("up_one_level");
+  delayGamma_ = params.getBool("delay_gamma");
+  maxTextureSize_ = context.limits.maxTextureSize;
+  textured_ = context.effects.lightTexture || context.scene.light.type == LightType::Spot;
+  rowLength_ = slices_ = allocatedRank_ = 0;
+
+  std::string defines = sceneDefines(context.effects);
+  rectifyProgram_ = gl::buildCompute("methods/minmax/shaders/rectify.comp", defines);
+  mipmapProgram_ = gl::buildCompute("methods/minmax/shaders/mipmap.comp", defines);
+  if (textured_) lightTextureProgram_ = gl::buildCompute("methods/minmax/shaders/light_texture.comp", defines);
+  integrateProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag", defines);
+  nearEpipoleProgram_ = gl::buildFullscreen("methods/minmax/shaders/near_epipole.frag", defines);
+  epipolarUbo_ = gl::createBuffer(sizeof(EpipolarUniforms));
+}
+
+void MinmaxMethod::allocate(int slices, int rowLength, int rank, bool textured) {
+  if (slices == slices_ && rowLength == rowLength_ && rank == allocatedRank_ && textured == allocatedTextured_) return;
+  slices_ = slices;
+  rowLength_ = rowLength;
+  allocatedRank_ = rank;
+  allocatedTextured_ = textured;
+  rectified_ = gl::createTexture2D(GL_R32F, rowLength, slices);
+  gl::setFilter(rectified_.id(), GL_NEAREST, GL_NEAREST);
+  for (auto& t : pingPong_) {
+    t = gl::createTexture2D(GL_RG32F, rowLength / 2, slices);
+    gl::setFilter(t.id(), GL_NEAREST, GL_NEAREST);
+  }
+  tree_ = gl::createTexture2D(GL_RG32F, 2 * rowLength, slices);
+  gl::setFilter(tree_.id(), GL_NEAREST, GL_NEAREST);
+  basisBeta_ = gl::createTexture2D(GL_R32F, minmax::kGrid, rank);
+  gl::setFilter(basisBeta_.id(), GL_LINEAR, GL_LINEAR);
+  basisGamma_ = gl::createTexture2D(GL_R32F, minmax::kGrid, rank);
+  gl::setFilter(basisGamma_.id(), GL_NEAREST, GL_NEAREST);
+  gammaPrefix_ = gl::createTexture2D(GL_R32F, kPrefixRes + 1, rank);
+  gl::setFilter(gammaPrefix_.id(), GL_LINEAR, GL_LINEAR);
+  texturedPrefix_ = gl::Texture();
+  if (textured) {
+    texturedPrefix_ = gl::createTexture2D(GL_RGBA32F, textureRes_ + 1, slices * rank);
+    gl::setFilter(texturedPrefix_.id(), GL_LINEAR, GL_LINEAR);
+  }
+}
+
+void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
+  const FrameUniforms& fu = frame.uniforms;
+  frame.bindShared();
+  glBindBufferBase(GL_UNIFORM_BUFFER, kEpipolarUboBinding, epipolarUbo_.id());
+  EpipolarUniforms eu{};
+  {
+    auto scope = timer.scope(kRectifyPass);
+    // Epipolar frame of this view (CPU), then one texel per (light ray, slice).
+    minmax::ViewInput in;
+    in.viewProj = glm::dmat4(fu.viewProj);
+    in.invViewProj = glm::dmat4(fu.invViewProj);
+    in.eye = glm::dvec3(fu.eye);
+    in.forward = glm::dvec3(fu.cameraForward);
+    in.farZ = fu.cameraClip.y;
+    in.width = frame.width;
+    in.height = frame.height;
+    in.directional = frame.scene.light.type == LightType::Directional;
+    in.lightPos = glm::dvec3(fu.lightPos);
+    in.lightTravelDir = glm::dvec3(fu.lightDir);
+    in.boundsLo = glm::dvec3(frame.geometry.boundsLo);
+    in.boundsHi = glm::dvec3(frame.geometry.boundsHi);
+    epipolar_ = minmax::computeEpipolarFrame(in);
+
+    int rank = std::min(rank_, kMaxRank);
+    int maxSlices = std::min(8192, textured_ ? maxTextureSize_ / rank : maxTextureSize_);
+    int slices = std::clamp(slicesParam_ > 0 ? slicesParam_ : epipolar_.autoSlices, 1, maxSlices);
+    int rowLength = nextPowerOfTwo(std::max(rowParam_ > 0 ? rowParam_ : frame.shadowMap.size, 16));
+    rowLength = std::min(rowLength, std::max(maxTextureSize_ / 2, 16));
+    allocate(slices, rowLength, rank, textured_);
+
+    const auto& e = epipolar_;
+    eu.invLightViewProj = glm::inverse(fu.lightViewProj);
+    eu.axis = glm::vec4(glm::vec3(e.axis), float(e.eyeLightDistance));
+    eu.basis0 = glm::vec4(glm::vec3(e.n0), float(e.alphaLo));
+    eu.basis1 = glm::vec4(glm::vec3(e.n1), float(e.alphaRange));
+    eu.gammaInfo = glm::vec4(float(e.gammaMap), float(e.gammaAll), float(rowLength), 0.0f);
+    eu.betaInfo = glm::vec4(float(e.betaLo), float(e.betaHi), float(e.epipolePixel.x), float(e.epipolePixel.y));
+    eu.epipoleInfo = glm::vec4(e.epipoleValid ? float(epipoleRadius_) : -1.0f, float(epipoleSteps_),
+                               e.degenerate ? 1.0f : 0.0f, 0.0f);
+    eu.counts = glm::ivec4(slices, rank, kPrefixRes, textureRes_);
+    eu.flags = glm::ivec4(upOneLevel_ ? 1 : 0, delayGamma_ ? 1 : 0, textured_ ? 1 : 0, 0);
+    glNamedBufferSubData(epipolarUbo_.id(), 0, sizeof(eu), &eu);
+
+    glUseProgram(rectifyProgram_.id());
+    glBindImageTexture(0, rectified_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    dispatch2D(rowLength, slices);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  {
+    auto scope = timer.scope(kLowRankPass);
+    // CPU: SVD of the smooth integrand on the 64x64 grid, prefix sums of Gamma_i; upload.
+    minmax::MediumParams m;
+    m.directional = epipolar_.directional;
+    m.sigmaS = frame.scene.medium.sigmaS;
+    m.sigmaT = frame.scene.medium.sigmaT();
+    m.hg = frame.scene.medium.phase == Phase::HenyeyGreenstein;
+    m.g = frame.scene.medium.g;
+    minmax::LowRank lr = minmax::lowRankApproximation(epipolar_, m, allocatedRank_, kPrefixRes);
+    energy_ = lr.energy;
+    glTextureSubImage2D(basisBeta_.id(), 0, 0, 0, minmax::kGrid, lr.rank, GL_RED, GL_FLOAT, lr.basisBeta.data());
+    glTextureSubImage2D(basisGamma_.id(), 0, 0, 0, minmax::kGrid, lr.rank, GL_RED, GL_FLOAT, lr.basisGamma.data());
+    glTextureSubImage2D(gammaPrefix_.id(), 0, 0, 0, kPrefixRes + 1, lr.rank, GL_RED, GL_FLOAT, lr.prefix.data());
+  }
+  if (textured_) {
+    auto scope = timer.scope(kLightTexturePass);
+    glUseProgram(lightTextureProgram_.id());
+    glBindTextureUnit(kUnitBasisGamma, basisGamma_.id());
+    glBindImageTexture(0, texturedPrefix_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(GLuint((slices_ + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+  {
+    auto scope = timer.scope(kMipmapPass);
+    glUseProgram(mipmapProgram_.id());
+    glBindTextureUnit(kUnitTree, rectified_.id());
+    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glUniform1i(2, slices_);
+    int pass = 0;
+    for (int width = rowLength_ / 2; width >= 1; width /= 2, ++pass) {
+      GLuint next = pingPong_[pass % 2].id(), previous = pingPong_[(pass + 1) % 2].id();
+      glBindImageTexture(1, previous, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32F);
+      glBindImageTexture(2, next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+      glUniform1i(0, width);
+      glUniform1i(1, pass == 0 ? 1 : 0);
+      dispatch2D(width, slices_);
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, frame.inscatterFbo);
+  glViewport(0, 0, frame.width, frame.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  {
+    auto scope = timer.scope(kIntegrationPass);
+    glUseProgram(integrateProgram_.id());
+    glBindTextureUnit(kUnitTree, tree_.id());
+    glBindTextureUnit(kUnitBasisBeta, basisBeta_.id());
+    glBindTextureUnit(kUnitGammaPrefix, gammaPrefix_.id());
+    glBindTextureUnit(kUnitTexturedPrefix, texturedPrefix_.id());
+    gl::drawFullscreenTriangle();
+  }
+  // Pixels near the epipole: a scissored, ray-marched pass (skipped when none is on screen).
+  int x0 = 0, y0 = 0, x1 = frame.width, y1 = frame.height;
+  if (!epipolar_.degenerate) {
+    double r = eu.epipoleInfo.x;
+    glm::dvec2 p = epipolar_.epipolePixel;
+    if (r <= 0.0 || !std::isfinite(p.x) || !std::isfinite(p.y)) {
+      x1 = x0;
+    } else {
+      x0 = int(std::clamp(std::floor(p.x - r), 0.0, double(frame.width)));
+      x1 = int(std::clamp(std::ceil(p.x + r), 0.0, double(frame.width)));
+      y0 = int(std::clamp(std::floor(p.y - r), 0.0, double(frame.height)));
+      y1 = int(std::clamp(std::ceil(p.y + r), 0.0, double(frame.height)));
+    }
+  }
+  if (x1 > x0 && y1 > y0) {
+    auto scope = timer.scope(kNearEpipolePass);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(x0, y0, x1 - x0, y1 - y0);
+    glUseProgram(nearEpipoleProgram_.id());
+    gl::drawFullscreenTriangle();
+    glDisable(GL_SCISSOR_TEST);
+  }
+}
+
+std::map<std::string, double> MinmaxMethod::stats(const std::map<std::string, TimingStats>& passes) const {
+  (void)passes;
+  return {{"slices", double(slices_)},
+          {"row_length", double(rowLength_)},
+          {"rank", double(allocatedRank_)},
+          {"svd_energy_kept", energy_},
+          {"auto_slices", double(epipolar_.autoSlices)}};
+}
+
+}  // namespace vs

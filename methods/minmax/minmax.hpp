@@ -1,0 +1,41 @@
+// Real-time volumetric shadows using 1D min-max mipmaps (Chen, Baran, Durand, Jarosz, I3D 2011).
+#pragma once
+#include "epipolar.hpp"
+#include "harness/method.hpp"
+
+namespace vs {
+
+class MinmaxMethod : public Method {
+ public:
+  std::string name() const override { return "minmax"; }
+  std::string description() const override;
+  Capabilities capabilities() const override;
+  std::vector<ParamSpec> params() const override;
+  std::vector<std::string> qualityLadder() const override;
+  void setup(const SetupContext& context, const ParamValues& params) override;
+  void render(const Frame& frame, PassTimer& timer) override;
+  std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+
+ private:
+  void allocate(int slices, int rowLength, int rank, bool textured);
+
+  // Knobs.
+  int slicesParam_ = 0, rank_ = 4, rowParam_ = 0, textureRes_ = 256, epipoleSteps_ = 256;
+  double epipoleRadius_ = 8.0;
+  bool upOneLevel_ = true, delayGamma_ = true;
+  // Scene facts fixed at setup.
+  bool textured_ = false;  // light texture or spot cone: per-slice prefix tables
+  int maxTextureSize_ = 0;
+  // Per frame.
+  int slices_ = 0, rowLength_ = 0, allocatedRank_ = 0;
+  bool allocatedTextured_ = false;
+  double energy_ = 1.0;
+  minmax::EpipolarFrame epipolar_;
+
+  gl::Program rectifyProgram_, mipmapProgram_, lightTextureProgram_, integrateProgram_, nearEpipoleProgram_;
+  gl::Buffer epipolarUbo_;
+  gl::Texture rectified_, pingPong_[2], tree_;
+  gl::Texture basisBeta_, basisGamma_, gammaPrefix_, texturedPrefix_;
+};
+
+}  // namespace vs
