@@ -207,7 +207,10 @@ void VsvMethod::updateGrid(const Frame& frame) {
   const Camera& cam = frame.scene.camera;
   glm::dvec3 eye(cam.position), light(frame.scene.light.position);
   glm::dvec3 forward(frame.uniforms.cameraForward);
-  vsv::EpipolarBasis basis = vsv::makeBasis(eye, light, forward, 1e-4 * double(sceneRadius_));
+  // Light at or near the eye (§4.2): the grid's light stays at least the camera's near distance
+  // away, where L_s (an integral of 1/s^2 from the eye) would otherwise have no bound.
+  double minDistance = std::max(1e-4 * double(sceneRadius_), double(cam.nearZ));
+  vsv::EpipolarBasis basis = vsv::makeBasis(eye, light, forward, minDistance);
   vsv::GridUniforms g = vsv::makeGridUniforms(basis, size_, dynamicRanges_);
   glNamedBufferSubData(gridUbo_.id(), 0, sizeof(g), &g);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, gridUbo_.id());
