@@ -261,7 +261,7 @@ void SharedPasses::renderShadowMap(PassTimer& timer) {
     glClearNamedFramebufferfv(s.fbos[f].id(), GL_DEPTH, 0, &one);
     const glm::mat4& m = s.type == LightType::Point ? s.faceViewProj[f] : s.viewProj;
     glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(m));
-    geometry_.draw();
+    if (shadowCasters_) geometry_.draw();
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
 }

@@ -96,6 +96,7 @@ class SharedPasses {
   void setShadowMapSize(int size);
   void updateUniforms(uint32_t frameIndex, uint32_t seed);
   void renderShadowMap(PassTimer& timer);   // "Shadow Map"
+  void setShadowCasters(bool on) { shadowCasters_ = on; }
   void renderGBuffer(PassTimer& timer);     // "G Buffer"
   void renderDirect(PassTimer& timer);      // "Direct Lighting"
   void clearInscatter();
@@ -124,6 +125,7 @@ class SharedPasses {
   gl::Framebuffer gbufferFbo_, directFbo_, inscatterFbo_, finalFbo_;
   gl::Program shadowProgram_, skyProgram_, gbufferProgram_, directProgram_, compositeProgram_;
   uint32_t frameIndex_ = 0, seed_ = 0;
+  bool shadowCasters_ = true;
 };
 
 // Preprocessor defines that specialise shaders to the scene's light type, light texture and phase

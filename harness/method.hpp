@@ -53,6 +53,9 @@ class Method {
   // Write L_s into frame.inscatterFbo; every pass inside timer.scope("Paper's pass name").
   // Called only when the scene scatters light (Effects::scattering).
   virtual void render(const Frame& frame, PassTimer& timer) = 0;
+  // The largest relMSE of L_s against the reference this method promises at its default
+  // parameters on every regular case of the hard-case suite (tests/stability_tests.cpp).
+  virtual double declaredRelMseBound() const { return 0.05; }
   // Figures for the result row, from the measured pass medians (e.g. samples per second).
   virtual std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const {
     (void)passes;

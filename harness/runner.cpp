@@ -29,6 +29,7 @@ Runner::Runner(const Scene& scene, const gl::Limits& limits, RunOptions options)
     : scene_(scene), limits_(limits), options_(options), effects_(deriveEffects(scene)) {
   geometry_ = std::make_unique<SceneGpu>(scene_);
   shared_ = std::make_unique<SharedPasses>(scene_, *geometry_, effects_, options_.width, options_.height);
+  shared_->setShadowCasters(options_.shadowCasters);
 }
 
 static size_t countNonFinite(const Image& img) {

@@ -18,6 +18,9 @@ struct RunOptions {
   int frames = 20, warmup = 3;
   uint32_t seed = 1;
   TimerStrategy timer = TimerStrategy::WallClock;
+  // false: nothing is drawn into the shadow map, so V = 1 everywhere. Gives the unshadowed L_s
+  // with the same camera rays, the upper bound every method's L_s must respect.
+  bool shadowCasters = true;
 };
 
 enum class RunStatus { Success, Unsupported, Failure };

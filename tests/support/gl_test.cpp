@@ -42,10 +42,18 @@ const gl::Limits& GlTest::limits() const { return shared().limits; }
 const ContextInfo& contextInfo() { return shared().context->info(); }
 bool isLlvmpipe() { return contextInfo().glRenderer.find("llvmpipe") != std::string::npos; }
 
-MethodRun renderScene(const Scene& scene, const std::string& spec, int width, int height, int frames, int warmup,
-                      uint32_t seed) {
+const gl::Limits& glLimits() { return shared().limits; }
+
+MethodRun renderScene(const Scene& scene, const std::string& spec, const RunOptions& options) {
   const gl::Limits& limits = shared().limits;
   ResolvedSpec resolved = resolveSpec(spec, limits);
+  Runner runner(scene, limits, options);
+  auto method = createMethod(resolved.method);
+  return runner.run(*method, resolved.params);
+}
+
+MethodRun renderScene(const Scene& scene, const std::string& spec, int width, int height, int frames, int warmup,
+                      uint32_t seed) {
   RunOptions options;
   options.width = width;
   options.height = height;
@@ -53,9 +61,7 @@ MethodRun renderScene(const Scene& scene, const std::string& spec, int width, in
   options.warmup = warmup;
   options.seed = seed;
   options.timer = TimerStrategy::WallClock;
-  Runner runner(scene, limits, options);
-  auto method = createMethod(resolved.method);
-  return runner.run(*method, resolved.params);
+  return renderScene(scene, spec, options);
 }
 
 Scene sceneFromJson(const std::string& json) { return parseSceneJson(json, ".", "test scene"); }

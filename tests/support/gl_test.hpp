@@ -25,6 +25,8 @@ bool isLlvmpipe();
 // Renders `scene` with a method spec ("raymarch:steps=64") through the real runner.
 MethodRun renderScene(const Scene& scene, const std::string& spec, int width, int height, int frames = 1,
                       int warmup = 0, uint32_t seed = 1);
+MethodRun renderScene(const Scene& scene, const std::string& spec, const RunOptions& options);
+const gl::Limits& glLimits();
 Scene sceneFromJson(const std::string& json);
 
 struct CommandResult {

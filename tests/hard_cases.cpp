@@ -1,0 +1,152 @@
+#include "hard_cases.hpp"
+
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace vs::testing {
+
+namespace {
+using json = nlohmann::json;
+
+json vec(double x, double y, double z) { return json::array({x, y, z}); }
+
+// A ground plane, a box occluder and a sphere, a point light above and in front, in fog.
+json baseScene() {
+  return {{"geometry",
+           json::array({{{"generator", "plane"}, {"params", {{"center", vec(0, 0, 0)}, {"size", {12, 12}}}}},
+                        {{"generator", "box"}, {"params", {{"center", vec(-1, 0.75, 0)}, {"size", vec(1, 1.5, 1)}}}},
+                        {{"generator", "sphere"}, {"params", {{"center", vec(1.2, 0.8, -0.5)}, {"radius", 0.7}, {"segments", 24}}}}})},
+          {"camera", {{"position", vec(0, 1.5, 6)}, {"target", vec(0, 1, 0)}, {"fov_y_deg", 55}, {"near", 0.05}, {"far", 30}}},
+          {"light", {{"type", "point"}, {"position", vec(0, 3, -2)}, {"intensity", 30}}},
+          {"medium", {{"sigma_s", 0.08}, {"sigma_a", 0.02}, {"phase", "isotropic"}}}};
+}
+
+json triangle(json a, json b, json c) {
+  return {{"generator", "triangle"}, {"params", {{"vertices", json::array({a, b, c})}}}};
+}
+
+HardCase make(std::string name, const json& scene, bool singular = false) {
+  return {std::move(name), scene.dump(), singular};
+}
+
+std::vector<HardCase> build() {
+  std::vector<HardCase> cases;
+  json s = baseScene();
+  cases.push_back(make("epipole_on_screen", s));
+
+  s = baseScene();
+  s["light"] = {{"type", "spot"}, {"position", vec(0, 3, -2)}, {"target", vec(0, 0, 2)}, {"intensity", 60},
+                {"spot_inner_deg", 30}, {"spot_outer_deg", 45}};
+  cases.push_back(make("spot_epipole_on_screen", s));
+
+  s = baseScene();
+  s["light"]["position"] = vec(9, 3, 0);
+  cases.push_back(make("epipole_off_screen", s));
+
+  s = baseScene();
+  s["light"]["position"] = vec(0, 3, 10);
+  cases.push_back(make("epipole_behind_camera", s));
+
+  s = baseScene();
+  s["camera"]["target"] = s["light"]["position"];
+  cases.push_back(make("looking_at_light", s));
+
+  s = baseScene();
+  s["light"]["position"] = s["camera"]["position"];
+  cases.push_back(make("light_at_eye", s, true));
+
+  s = baseScene();
+  s["light"]["position"] = vec(1e-4, 1.5, 6);
+  cases.push_back(make("light_within_1e-4_of_eye", s, true));
+
+  // Camera looks along -Z tilted down; the sun travels along (anti-)parallel to that.
+  json forward = vec(0, -0.5 / 6.0828, -6 / 6.0828);
+  s = baseScene();
+  s["light"] = {{"type", "directional"}, {"direction", forward}, {"intensity", 2}};
+  cases.push_back(make("directional_parallel_to_view", s));
+
+  s = baseScene();
+  s["light"] = {{"type", "directional"}, {"direction", vec(0, 0.5 / 6.0828, 6 / 6.0828)}, {"intensity", 2}};
+  cases.push_back(make("directional_antiparallel_to_view", s));
+
+  // A triangle between the eye and the light that covers the light's image (the epipole).
+  s = baseScene();
+  s["geometry"].push_back(triangle(vec(-1.5, 1.6, 0.5), vec(1.5, 1.6, 0.5), vec(0, 4.5, -0.5)));
+  cases.push_back(make("triangle_covers_epipole", s));
+
+  // A triangle right of the epipole that crosses the horizontal line through it (theta = 0).
+  s = baseScene();
+  s["geometry"].push_back(triangle(vec(0.6, 2.0, -1.0), vec(2.5, 2.4, -1.2), vec(1.2, 3.8, -1.5)));
+  cases.push_back(make("triangle_crosses_theta_seam", s));
+
+  s = baseScene();
+  s["geometry"].push_back({{"generator", "box"}, {"params", {{"center", vec(0, 3.5, -2)}, {"size", vec(1, 1, 1)}}}});
+  cases.push_back(make("occluder_touching_light", s));
+
+  s = baseScene();
+  s["camera"]["position"] = vec(0, 0.01, 6);
+  s["camera"]["target"] = vec(0, 0.0, -6);
+  s["light"]["position"] = vec(0, 0.3, -4);
+  cases.push_back(make("grazing_surfaces", s));
+
+  for (auto [name, sigmaS, sigmaA] : {std::tuple<const char*, double, double>{"sigma_t_0", 0.0, 0.0},
+                                      {"sigma_t_1e-6", 1e-6, 0.0},
+                                      {"sigma_t_1e3", 500.0, 500.0},
+                                      {"sigma_s_0", 0.0, 0.05}}) {
+    s = baseScene();
+    s["medium"] = {{"sigma_s", sigmaS}, {"sigma_a", sigmaA}, {"phase", "isotropic"}};
+    cases.push_back(make(name, s));
+  }
+
+  s = baseScene();
+  s["camera"]["position"] = vec(-1, 0.75, 0);  // the centre of the box
+  s["camera"]["target"] = vec(0, 1, -5);
+  cases.push_back(make("camera_inside_occluder", s));
+
+  s = baseScene();
+  s["geometry"] = json::array();
+  cases.push_back(make("empty_scene", s));
+
+  s = baseScene();
+  s["geometry"] = json::array({triangle(vec(-1, 0.5, 0), vec(1, 0.5, 0), vec(0, 2.5, -0.5))});
+  cases.push_back(make("single_triangle", s));
+
+  s = baseScene();
+  s["geometry"].push_back(triangle(vec(0, 1, 0), vec(1, 1, 0), vec(2, 1, 0)));  // zero area
+  s["geometry"].push_back(triangle(vec(0, 1, 0), vec(0, 1, 0), vec(0, 1, 0)));  // a point
+  s["geometry"].push_back(triangle(json::array({"nan", 1, 0}), vec(1, 2, 0), vec(0, 2, 1)));
+  s["geometry"].push_back(triangle(json::array({"inf", 1, 0}), vec(1, 2, 0), vec(0, 2, 1)));
+  cases.push_back(make("degenerate_and_nan_vertices", s));
+
+  s = baseScene();
+  s["camera"]["near"] = 1e-4;
+  s["camera"]["far"] = 100.0;
+  cases.push_back(make("near_far_ratio_1e6", s));
+
+  // Everything moved 1e5 units away from the origin.
+  s = baseScene();
+  const double off = 1e5;
+  for (auto& g : s["geometry"]) {
+    auto& p = g["params"];
+    if (p.contains("center")) p["center"] = vec(p["center"][0].get<double>() + off, p["center"][1], p["center"][2].get<double>() + off);
+  }
+  s["camera"]["position"] = vec(off, 1.5, 6 + off);
+  s["camera"]["target"] = vec(off, 1, off);
+  s["light"]["position"] = vec(off, 3, -2 + off);
+  cases.push_back(make("coordinates_1e5", s));
+  return cases;
+}
+}  // namespace
+
+const std::vector<HardCase>& hardCases() {
+  static const std::vector<HardCase> cases = build();
+  return cases;
+}
+
+const HardCase& hardCase(const std::string& name) {
+  for (const auto& c : hardCases())
+    if (c.name == name) return c;
+  throw std::invalid_argument("no hard case " + name);
+}
+
+}  // namespace vs::testing
