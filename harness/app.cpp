@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "context.hpp"
+#include "ground_truth.hpp"
 #include "metrics.hpp"
 #include "progress.hpp"
 #include "results.hpp"
@@ -118,6 +119,14 @@ static int runChecked(const RunRequest& req, bool shootout) {
     }
   }
 
+  bool exactReference = req.referenceSpec == "exact";
+  if ((req.exact || exactReference) && !groundTruthUnsupported(scene).empty())
+    throw UsageError(groundTruthUnsupported(scene));
+  if (!exactReference && !req.referenceSpec.empty()) {
+    MethodSpec spec = parseMethodSpec(req.referenceSpec);
+    createMethod(spec.method);
+  }
+
   GlContext context(true);
   gl::installDebugOutput(req.strictGl);
   gl::Limits limits = gl::queryLimits();
@@ -212,11 +221,35 @@ static int runChecked(const RunRequest& req, bool shootout) {
   options.seed = uint32_t(req.seed);
   options.timer = calibration.chosen;
 
-  Progress progress(int(jobs.size()) + (req.noReference ? 0 : 1));
+  bool haveExact = req.exact || exactReference;
+  Progress progress(int(jobs.size()) + (req.noReference ? 0 : 1) + (req.exact && !exactReference ? 1 : 0));
   int item = 0;
   Reference reference;
   bool haveReference = !req.noReference;
-  if (haveReference) {
+  GroundTruth exact;
+  if (haveExact) {
+    progress.item(item, "exact-visibility ground truth");
+    GroundTruthOptions gt;
+    gt.width = width;
+    gt.height = height;
+    gt.steps = req.exactSteps;
+    gt.seed = options.seed;
+    exact = renderGroundTruth(scene, gt, [&](int done, int total) { progress.frames(done, total); });
+    progress.finished("computed in " + num(exact.computeMs / 1000.0) + " s (" + std::to_string(req.exactSteps) +
+                      " steps per ray, Embree visibility)");
+    meta["exact"] = {{"steps", req.exactSteps}, {"compute_ms", exact.computeMs}};
+    if (!exactReference) ++item;
+  }
+  if (haveReference && exactReference) {
+    reference.method = "exact";
+    reference.params = "steps=" + std::to_string(req.exactSteps);
+    reference.computeMs = exact.computeMs;
+    reference.inscatter = exact.inscatter;
+    reference.final = exact.final;
+    ++item;
+    meta["reference"] = {{"method", reference.method}, {"params", reference.params}, {"compute_ms", exact.computeMs}};
+    writeFileAtomic(metaPath, meta.dump(2) + "\n");
+  } else if (haveReference) {
     int sm = 0;
     for (const auto& j : jobs) sm = std::max(sm, j.params.getInt("sm"));
     progress.item(item, "reference");
@@ -251,11 +284,16 @@ static int runChecked(const RunRequest& req, bool shootout) {
     progress.item(item, job.label);
     auto method = createMethod(job.method);
     MethodRun r = runner.run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
-    ErrorMetrics finalErr, lsErr;
+    ErrorMetrics finalErr, lsErr, exactErr, exactLsErr;
     bool measured = haveReference && r.status == RunStatus::Success;
     if (measured) {
       finalErr = compareImages(r.final, reference.final);
       lsErr = compareImages(r.inscatter, reference.inscatter);
+    }
+    bool exactMeasured = haveExact && r.status == RunStatus::Success;
+    if (exactMeasured) {
+      exactErr = compareImages(r.final, exact.final);
+      exactLsErr = compareImages(r.inscatter, exact.inscatter);
     }
     if (r.status == RunStatus::Failure) ++failures;
     if (!req.noImages && r.status == RunStatus::Success) {
@@ -273,6 +311,7 @@ static int runChecked(const RunRequest& req, bool shootout) {
     for (const auto& [k, v] : r.stats) statsText += (statsText.empty() ? "" : ";") + k + "=" + num(v);
     bool ok = r.status == RunStatus::Success;
     auto metric = [&](double v) { return measured ? num(v) : std::string(); };
+    auto exactMetric = [&](double v) { return exactMeasured ? num(v) : std::string(); };
     runs.upsert({scene.name,
                  r.method,
                  r.params,
@@ -298,6 +337,12 @@ static int runChecked(const RunRequest& req, bool shootout) {
                  metric(lsErr.maxAbs),
                  std::to_string(r.nonFinitePixels),
                  statsText,
+                 exactMetric(exactErr.rmse),
+                 exactMetric(exactErr.relmse),
+                 exactMetric(exactErr.psnr),
+                 exactMetric(exactErr.ssim),
+                 exactMetric(exactLsErr.rmse),
+                 exactMetric(exactLsErr.relmse),
                  std::to_string(width),
                  std::to_string(height),
                  std::to_string(r.shadowMapSize),

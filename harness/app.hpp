@@ -11,11 +11,13 @@ struct RunRequest {
   std::string size = "512x512";
   std::string out = "vshadow-results";
   std::string cacheDir;              // empty: defaultCacheDir()
-  std::string referenceSpec;         // empty: the registered reference method
+  std::string referenceSpec;         // empty: the registered reference method; "exact": ground truth
   std::string timer = "auto";        // auto | gpu | wall
   int frames = 20, warmup = 3;
   long long seed = 1;
   bool noReference = false;
+  bool exact = false;                // also measure against the exact-visibility ground truth
+  int exactSteps = 2048;
   bool noImages = false;
   bool strictGl = false;
   std::string commandLine;

@@ -24,7 +24,13 @@ int main(int argc, char** argv) {
     cmd->add_option("--seed", r.seed, "seed for jitter and random scenes")->capture_default_str()->check(CLI::Range(0LL, 4294967295LL));
     cmd->add_option("--timer", r.timer, "timing strategy")->capture_default_str()->check(CLI::IsMember({"auto", "gpu", "wall"}));
     cmd->add_option("--cache", r.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");
-    cmd->add_option("--reference", r.referenceSpec, "method spec of the reference (default: the ray-marched reference)");
+    cmd->add_option("--reference", r.referenceSpec,
+                    "method spec of the reference (default: the ray-marched reference), or 'exact' for the "
+                    "exact-visibility ground truth (small images)");
+    cmd->add_flag("--exact", r.exact, "also report errors against the exact-visibility ground truth (small images)");
+    cmd->add_option("--exact-steps", r.exactSteps, "ground-truth samples per camera ray")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 20));
     cmd->add_flag("--no-reference", r.noReference, "skip the reference and the error metrics");
     cmd->add_flag("--no-images", r.noImages, "write no images");
     cmd->add_flag("--strict-gl", r.strictGl, "treat any GL debug error as fatal");

@@ -36,7 +36,8 @@ std::vector<std::string> runsCsvHeader() {
           "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable",
           "rmse",          "relmse",         "psnr",        "ssim",          "max_abs",      "max_abs_x",
           "max_abs_y",     "ls_rmse",        "ls_relmse",   "ls_psnr",       "ls_ssim",      "ls_max_abs",
-          "nonfinite_pixels", "method_stats", "width",      "height",        "shadow_map",   "frames",
+          "nonfinite_pixels", "method_stats", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim",
+          "exact_ls_rmse", "exact_ls_relmse", "width",      "height",        "shadow_map",   "frames",
           "reference",     "timer",          "renderer",    "date"};
 }
 

@@ -1,0 +1,263 @@
+#include "ground_truth.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <thread>
+
+#include "frame.hpp"
+
+namespace vs {
+
+namespace {
+
+using dvec3 = glm::dvec3;
+constexpr double kPi = 3.14159265358979323846;
+
+struct DeviceDeleter {
+  void operator()(RTCDeviceTy* d) const { rtcReleaseDevice(d); }
+};
+struct SceneDeleter {
+  void operator()(RTCSceneTy* s) const { rtcReleaseScene(s); }
+};
+
+// One Embree geometry per mesh, so a hit's geomID gives the mesh (and its albedo).
+class Tracer {
+ public:
+  explicit Tracer(const Scene& scene) : scene_(scene) {
+    device_.reset(rtcNewDevice("threads=1"));
+    if (!device_) throw std::runtime_error("Embree: cannot create a device");
+    rtcScene_.reset(rtcNewScene(device_.get()));
+    for (const Mesh& mesh : scene.meshes) {
+      if (mesh.indices.empty()) continue;
+      RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), mesh.positions.size()));
+      for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        v[3 * i] = mesh.positions[i].x;
+        v[3 * i + 1] = mesh.positions[i].y;
+        v[3 * i + 2] = mesh.positions[i].z;
+      }
+      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), mesh.indices.size() / 3));
+      for (size_t i = 0; i < mesh.indices.size(); ++i) idx[i] = mesh.indices[i];
+      rtcCommitGeometry(g);
+      unsigned id = rtcAttachGeometry(rtcScene_.get(), g);
+      rtcReleaseGeometry(g);
+      if (albedo_.size() <= id) albedo_.resize(id + 1);
+      albedo_[id] = dvec3(mesh.albedo);
+    }
+    rtcCommitScene(rtcScene_.get());
+  }
+
+  struct Hit {
+    bool hit = false;
+    double t = 0;
+    dvec3 normal{0};
+    dvec3 albedo{0};
+  };
+
+  Hit intersect(dvec3 origin, dvec3 dir, double tfar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh{};
+    setRay(rh.ray, origin, dir, 0.0, tfar);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rtcScene_.get(), &context, &rh);
+    Hit h;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+    h.hit = true;
+    h.t = rh.ray.tfar;
+    dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    double len = glm::length(n);
+    h.normal = len > 0 ? n / len : dvec3(0, 1, 0);
+    if (glm::dot(h.normal, dir) > 0) h.normal = -h.normal;  // two-sided, facing the eye
+    h.albedo = rh.hit.geomID < albedo_.size() ? albedo_[rh.hit.geomID] : dvec3(0.8);
+    return h;
+  }
+
+  bool occluded(dvec3 origin, dvec3 dir, double tfar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray{};
+    setRay(ray, origin, dir, 0.0, tfar);
+    rtcOccluded1(rtcScene_.get(), &context, &ray);
+    return ray.tfar < 0.0f;
+  }
+
+ private:
+  static void setRay(RTCRay& r, dvec3 o, dvec3 d, double tnear, double tfar) {
+    r.org_x = float(o.x);
+    r.org_y = float(o.y);
+    r.org_z = float(o.z);
+    r.dir_x = float(d.x);
+    r.dir_y = float(d.y);
+    r.dir_z = float(d.z);
+    r.tnear = float(tnear);
+    r.tfar = tfar > 3e38 ? std::numeric_limits<float>::infinity() : float(tfar);
+    r.mask = 0xFFFFFFFFu;
+    r.flags = 0;
+    r.time = 0;
+  }
+
+  const Scene& scene_;
+  std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
+  std::unique_ptr<RTCSceneTy, SceneDeleter> rtcScene_;
+  std::vector<dvec3> albedo_;
+};
+
+struct LightModel {
+  const Scene& scene;
+  dvec3 position, direction, radiance;  // radiance: colour * intensity
+  double cosOuter, cosInner, sigmaT;
+
+  explicit LightModel(const Scene& s)
+      : scene(s),
+        position(s.light.position),
+        direction(glm::normalize(dvec3(s.light.direction))),
+        radiance(dvec3(s.light.color) * double(s.light.intensity)),
+        cosOuter(std::cos(glm::radians(double(s.light.spotOuterDeg)))),
+        cosInner(std::cos(glm::radians(double(s.light.spotInnerDeg)))),
+        sigmaT(s.medium.sigmaT()) {}
+
+  // L_in(x) without visibility, exactly as common.glsl's lightIncident().
+  dvec3 incident(dvec3 x) const {
+    if (scene.light.type == LightType::Directional) return radiance;
+    dvec3 d = x - position;
+    double r2 = std::max(glm::dot(d, d), 1e-12);
+    double r = std::sqrt(r2);
+    dvec3 L = radiance * (std::exp(-sigmaT * r) / r2);
+    if (scene.light.type == LightType::Spot) {
+      double c = glm::dot(d / r, direction);
+      L *= std::clamp((c - cosOuter) / std::max(cosInner - cosOuter, 1e-6), 0.0, 1.0);
+    }
+    return L;
+  }
+  dvec3 travelDir(dvec3 x) const {
+    if (scene.light.type == LightType::Directional) return direction;
+    dvec3 d = x - position;
+    double len = glm::length(d);
+    return len > 1e-20 ? d / len : direction;
+  }
+  // Exact visibility of the light from x.
+  bool visible(const Tracer& tracer, dvec3 x) const {
+    if (scene.light.type == LightType::Directional) return !tracer.occluded(x, -direction, 1e30);
+    dvec3 d = position - x;
+    double r = glm::length(d);
+    if (r < 1e-12) return true;
+    return !tracer.occluded(x, d / r, r * (1.0 - 1e-6));
+  }
+  double phase(double cosTheta) const {
+    if (scene.medium.phase != Phase::HenyeyGreenstein) return 1.0 / (4.0 * kPi);
+    double g = scene.medium.g;
+    double denom = std::max(1.0 + g * g - 2.0 * g * std::clamp(cosTheta, -1.0, 1.0), 1e-12);
+    return (1.0 - g * g) / (4.0 * kPi * denom * std::sqrt(denom));
+  }
+};
+
+uint32_t hash32(uint32_t v) {
+  v ^= v >> 16;
+  v *= 0x7feb352dU;
+  v ^= v >> 15;
+  v *= 0x846ca68bU;
+  v ^= v >> 16;
+  return v;
+}
+
+}  // namespace
+
+std::string groundTruthUnsupported(const Scene& scene) {
+  if (scene.light.hasTexture()) return "the exact-visibility ground truth does not model light textures";
+  return "";
+}
+
+GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& options,
+                              const std::function<void(int, int)>& progress) {
+  std::string why = groundTruthUnsupported(scene);
+  if (!why.empty()) throw std::runtime_error(why);
+  auto start = std::chrono::steady_clock::now();
+  Tracer tracer(scene);
+  LightModel light(scene);
+  const int W = options.width, H = options.height, N = std::max(options.steps, 1);
+  const Camera& cam = scene.camera;
+  glm::dmat4 viewProj = glm::dmat4(cameraProjection(cam, float(W) / float(std::max(H, 1)))) *
+                        glm::dmat4(cameraView(cam));
+  glm::dmat4 inverse = glm::inverse(viewProj);
+  dvec3 eye(cam.position);
+  dvec3 forward = glm::normalize(dvec3(cam.target) - eye);
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  double surfaceOffset = 1e-5 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo)));
+  const double sigmaS = scene.medium.sigmaS, sigmaT = scene.medium.sigmaT();
+
+  GroundTruth out;
+  out.inscatter = Image(W, H);
+  out.final = Image(W, H);
+  std::atomic<int> nextRow{0}, rowsDone{0};
+  auto worker = [&](bool reports) {
+    for (int y = nextRow++; y < H; y = nextRow++) {
+      for (int x = 0; x < W; ++x) {
+        // The pixel centre's ray, as the GPU's G-buffer sky pass computes it (row 0 = top).
+        glm::dvec4 p = inverse * glm::dvec4((x + 0.5) / W * 2.0 - 1.0, (H - 1 - y + 0.5) / H * 2.0 - 1.0, 1.0, 1.0);
+        dvec3 dir = glm::normalize(dvec3(p) / p.w - eye);
+        double farDist = cam.farZ / std::max(glm::dot(dir, forward), 1e-6);
+        Tracer::Hit hit = tracer.intersect(eye, dir, farDist);
+        // The rasterizer clips at the near plane: nothing closer than near counts as a hit.
+        double nearDist = cam.nearZ / std::max(glm::dot(dir, forward), 1e-6);
+        while (hit.hit && hit.t < nearDist) {
+          Tracer::Hit further = tracer.intersect(eye + dir * (hit.t + surfaceOffset), dir, farDist - hit.t);
+          if (!further.hit) {
+            hit = further;
+            break;
+          }
+          further.t += hit.t + surfaceOffset;
+          hit = further;
+        }
+        double d = hit.hit ? hit.t : farDist;
+        dvec3 Ls(0.0);
+        if (sigmaS > 0.0) {
+          double ds = d / N;
+          double offset = (hash32(uint32_t(x) * 73856093u ^ uint32_t(y) * 19349663u ^ options.seed) >> 8) / 16777216.0;
+          for (int i = 0; i < N; ++i) {
+            double s = (i + std::fmod(offset + i * 0.61803398875, 1.0)) * ds;
+            dvec3 xs = eye + dir * s;
+            if (!light.visible(tracer, xs)) continue;
+            Ls += std::exp(-sigmaT * s) * light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
+          }
+          Ls *= sigmaS * ds;
+        }
+        dvec3 surface(0.0);
+        if (hit.hit) {
+          dvec3 xs = eye + dir * d;
+          dvec3 toLight = -light.travelDir(xs);
+          double cosine = std::max(glm::dot(hit.normal, toLight), 0.0);
+          if (cosine > 0.0 && light.visible(tracer, xs + hit.normal * surfaceOffset))
+            surface = hit.albedo / kPi * light.incident(xs) * cosine;
+        }
+        dvec3 L = surface * std::exp(-sigmaT * d) + Ls;
+        for (int c = 0; c < 3; ++c) {
+          out.inscatter.at(x, y)[c] = float(Ls[c]);
+          out.final.at(x, y)[c] = float(L[c]);
+        }
+      }
+      int done = ++rowsDone;
+      if (reports && progress) progress(done, H);
+    }
+  };
+  int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, false);
+  worker(true);
+  for (auto& t : pool) t.join();
+  out.computeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace vs
