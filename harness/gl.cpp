@@ -1,6 +1,8 @@
 #include "gl.hpp"
 
 #include <atomic>
+#include <cstdlib>
+#include <fstream>
 #include <cstdio>
 #include <mutex>
 #include <regex>
@@ -84,9 +86,19 @@ void checkFramebuffer(GLuint fbo, const char* what) {
 
 const std::map<std::string, std::string>& shaderFiles() { return embeddedShaderFiles(); }
 
-static const std::string& shaderText(const std::string& path) {
+// The embedded text, or the file under $VSHADOW_SHADER_DIR when that is set and has it (for
+// editing shaders without rebuilding).
+static std::string shaderText(const std::string& path) {
   auto it = shaderFiles().find(path);
   if (it == shaderFiles().end()) throw GlError("shader file not found in the binary: " + path);
+  if (const char* dir = std::getenv("VSHADOW_SHADER_DIR")) {
+    std::ifstream in(std::string(dir) + "/" + path, std::ios::binary);
+    if (in) {
+      std::stringstream text;
+      text << in.rdbuf();
+      return text.str();
+    }
+  }
   return it->second;
 }
 
@@ -206,8 +218,9 @@ Program buildFullscreen(const std::string& fragmentPath, const std::string& defi
 
 std::string shaderSourcesHash() {
   uint64_t h = 1469598103934665603ull;
-  for (const auto& [name, text] : shaderFiles()) {
-    for (char c : name + '\0' + text) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  for (const auto& entry : shaderFiles()) {
+    const std::string& name = entry.first;
+    for (char c : name + '\0' + shaderText(name)) h = (h ^ uint8_t(c)) * 1099511628211ull;
   }
   char buf[20];
   std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
@@ -262,6 +275,24 @@ void checkErrors(const char* where) {
     g_lastError = buf;
   }
   if (g_strict && g_errors > 0) throw GlError("GL error at " + std::string(where) + ": " + lastDebugError());
+}
+
+void resetPipelineState() {
+  glDisable(GL_BLEND);
+  glDisable(GL_COLOR_LOGIC_OP);
+  glLogicOp(GL_COPY);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glUseProgram(0);
+  glBindVertexArray(0);
 }
 
 static VertexArray g_emptyVao;

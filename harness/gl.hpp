@@ -95,6 +95,11 @@ void resetDebugErrorCount();
 std::string lastDebugError();
 void checkErrors(const char* where);
 
+// Puts the fixed-function state every pass may assume back to its defaults (no blend, logic op,
+// culling, scissor or polygon offset; depth and colour writes on). The runner calls it between
+// passes it does not own, so one method's leftovers never change another's image.
+void resetPipelineState();
+
 // One empty VAO bound for attribute-less fullscreen triangles.
 void drawFullscreenTriangle();
 // Frees objects owned by this module; the context calls it before it is destroyed.

@@ -63,12 +63,14 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     int total = options_.warmup + options_.frames;
     for (int f = 0; f < total; ++f) {
       shared_->updateUniforms(uint32_t(f), options_.seed);
+      gl::resetPipelineState();
       timer.beginFrame(f >= options_.warmup);
       shared_->renderShadowMap(timer);
       shared_->renderGBuffer(timer);
       shared_->renderDirect(timer);
       if (effects_.scattering) {
         method.render(shared_->frame(), timer);
+        gl::resetPipelineState();
       } else {
         shared_->clearInscatter();
       }

@@ -57,6 +57,15 @@ TEST_P(BadInputTest, OneClearLineNonZeroExitNothingWritten) {
   writeFile(dir + "/bad-gltf.json", R"({"geometry": [{"gltf": "broken.gltf"}], )" + camera + "}");
   writeFile(dir + "/broken.gltf", "{ \"asset\": {\"version\": \"2.0\"}, \"buffers\": [ ");
   writeFile(dir + "/missing-gltf.json", R"({"geometry": [{"gltf": "nowhere.gltf"}], )" + camera + "}");
+  // A glTF whose buffer claims more bytes than its .bin file holds.
+  writeFile(dir + "/short.bin", std::string(12, '\0'));
+  writeFile(dir + "/truncated.gltf", R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"uri": "short.bin", "byteLength": 36}], "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]}]})");
+  writeFile(dir + "/truncated-gltf.json", R"({"geometry": [{"gltf": "truncated.gltf"}], )" + camera +
+                                               R"(, "light": {"type": "point", "position": [0, 3, 0], "intensity": 1}})");
   // An output folder that already holds results: bad input must leave it untouched.
   std::string out = dir + "/out";
   fs::create_directories(out);
@@ -87,6 +96,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"unknown_scene_key", {"run", "--scene", "%DIR%/unknown-key.json", "--method", "raymarch"}, "colour"},
         BadInput{"malformed_gltf", {"run", "--scene", "%DIR%/bad-gltf.json", "--method", "raymarch"}, "broken.gltf"},
         BadInput{"missing_gltf", {"run", "--scene", "%DIR%/missing-gltf.json", "--method", "raymarch"}, "nowhere.gltf"},
+        BadInput{"truncated_gltf_buffer", {"run", "--scene", "%DIR%/truncated-gltf.json", "--method", "raymarch"},
+                 "truncated.gltf"},
+        BadInput{"nan_scene_value", {"run", "--scene", "spheres", "--method", "raymarch:steps=nan"}, "steps=nan"},
         BadInput{"unknown_method", {"run", "--scene", "spheres", "--method", "nosuch"}, "unknown method 'nosuch'"},
         BadInput{"unknown_key", {"run", "--scene", "spheres", "--method", "raymarch:stepz=4"}, "stepz"},
         BadInput{"out_of_range", {"run", "--scene", "spheres", "--method", "raymarch:steps=0"}, "out of range"},
@@ -97,8 +109,41 @@ INSTANTIATE_TEST_SUITE_P(
                  "exceeds"},
         BadInput{"malformed_size", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "big"}, "--size"},
         BadInput{"unknown_option", {"run", "--scene", "spheres", "--method", "raymarch", "--colour"}, "colour"},
-        BadInput{"bad_frames", {"run", "--scene", "spheres", "--method", "raymarch", "--frames", "0"}, "frames"}),
+        BadInput{"bad_frames", {"run", "--scene", "spheres", "--method", "raymarch", "--frames", "0"}, "frames"},
+        BadInput{"unknown_reference_method",
+                 {"run", "--scene", "spheres", "--method", "raymarch", "--reference", "nosuch:steps=1"}, "nosuch"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
+
+TEST(CliTest, UnwritableOutputFolderIsOneLine) {
+  std::string dir = makeTempDir("unwritable");
+  writeFile(dir + "/a-file", "not a folder");
+  CommandResult r = runVshadow({"run", "--scene", "spheres", "--method", "raymarch:steps=4", "--size", "16x16",
+                                "--out", dir + "/a-file/results", "--cache", dir + "/cache"});
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_EQ(nonEmptyLines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("a-file/results"), std::string::npos) << r.err;
+  EXPECT_EQ(readFile(dir + "/a-file"), "not a folder");
+}
+
+TEST(CliTest, ShaderThatFailsToCompileIsAFailureRowAndTheSweepGoesOn) {
+  std::string dir = makeTempDir("shader");
+  std::string shaders = dir + "/shaders";
+  fs::create_directories(shaders + "/methods/raymarch/shaders");
+  writeFile(shaders + "/methods/raymarch/shaders/raymarch.frag",
+            "#version 450 core\n#include \"common.glsl\"\nout vec4 color;\nvoid main() {\n  color = undefinedThing;\n}\n");
+  std::string out = dir + "/out";
+  CommandResult r = runVshadow({"run", "--scene", "spheres", "--method", "raymarch:steps=4", "--method",
+                                "raymarch:steps=8", "--size", "16x16", "--frames", "1", "--warmup", "0",
+                                "--no-reference", "--out", out},
+                               {"VSHADOW_SHADER_DIR=" + shaders});
+  EXPECT_EQ(r.exitCode, 3) << r.err;
+  auto rows = CsvTable::parse(readFile(out + "/runs.csv"));
+  ASSERT_EQ(rows.size(), 3u) << "both rows of the sweep are written";
+  for (size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][3], "Failure");
+    EXPECT_NE(rows[i][4].find("methods/raymarch/shaders/raymarch.frag:5"), std::string::npos) << rows[i][4];
+  }
+}
 
 CsvTable loadCsv(const std::string& path, std::vector<std::string> header, size_t keys) {
   CsvTable t(std::move(header), keys);

@@ -1,5 +1,6 @@
 // Timer, result files, effects and method-spec parsing.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <thread>
 
@@ -171,6 +172,67 @@ TEST_F(EffectsTest, EveryLightTypeRendersFiniteImages) {
     for (float v : run.inscatter.rgb) sum += v;
     EXPECT_GT(sum, 0.0) << type;
   }
+}
+
+// Methods that fail in the ways a sweep must survive.
+class FaultyMethod : public Method {
+ public:
+  enum class Fault { ThrowInSetup, ThrowInRender, NaNPixels, GlError };
+  explicit FaultyMethod(Fault fault) : fault_(fault) {}
+  std::string name() const override { return "faulty"; }
+  std::string description() const override { return "test method"; }
+  Capabilities capabilities() const override {
+    Capabilities c;
+    c.pointLight = c.spotLight = c.directionalLight = true;
+    return c;
+  }
+  std::vector<ParamSpec> params() const override { return {}; }
+  void setup(const SetupContext&, const ParamValues&) override {
+    if (fault_ == Fault::ThrowInSetup) throw std::runtime_error("setup exploded");
+  }
+  void render(const Frame& frame, PassTimer& timer) override {
+    auto scope = timer.scope("Faulty Pass");
+    if (fault_ == Fault::ThrowInRender) throw std::runtime_error("render exploded");
+    if (fault_ == Fault::NaNPixels) {
+      const float nan[4] = {std::nanf(""), 0, 0, 1};
+      glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, nan);
+    }
+    if (fault_ == Fault::GlError) glBindTextureUnit(0, 987654);  // not a texture name
+  }
+
+ private:
+  Fault fault_;
+};
+
+class FailureRowTest : public GlTest {};
+
+TEST_F(FailureRowTest, FaultsBecomeFailureRowsWithReasons) {
+  Scene scene = loadScene("spheres");
+  RunOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.frames = 1;
+  options.warmup = 0;
+  Runner runner(scene, limits(), options);
+  std::vector<ParamSpec> specs = allParams(FaultyMethod(FaultyMethod::Fault::NaNPixels), 1024);
+  ParamValues params = ParamValues::parse("faulty", specs, {{"sm", "256"}});
+  struct Expect {
+    FaultyMethod::Fault fault;
+    const char* reason;
+  };
+  for (Expect e : {Expect{FaultyMethod::Fault::ThrowInSetup, "setup exploded"},
+                   Expect{FaultyMethod::Fault::ThrowInRender, "render exploded"},
+                   Expect{FaultyMethod::Fault::NaNPixels, "non-finite"}, Expect{FaultyMethod::Fault::GlError, "GL error"}}) {
+    FaultyMethod method(e.fault);
+    MethodRun run = runner.run(method, params);
+    EXPECT_EQ(run.status, RunStatus::Failure) << e.reason;
+    EXPECT_NE(run.reason.find(e.reason), std::string::npos) << run.reason;
+  }
+  // The GL error above was expected; the runner recovers and the next run is clean.
+  gl::resetDebugErrorCount();
+  auto good = createMethod("raymarch");
+  MethodRun ok = runner.run(*good, resolveSpec("raymarch:steps=4:sm=256", limits()).params);
+  EXPECT_EQ(ok.status, RunStatus::Success) << ok.reason;
 }
 
 }  // namespace
