@@ -240,7 +240,7 @@ Frame SharedPasses::frame() const {
   return Frame{scene_,          geometry_,          effects_,          uniforms_,         shadow_,
                width_,          height_,            frameIndex_,       seed_,             gPosition_.id(),
                gNormal_.id(),   gAlbedo_.id(),      depth_.id(),       inscatter_.id(),   inscatterFbo_.id(),
-               lightTexture_.id(), ubo_.id()};
+               direct_.id(),    directFbo_.id(),    lightTexture_.id(), ubo_.id()};
 }
 
 void SharedPasses::renderShadowMap(PassTimer& timer) {

@@ -83,6 +83,9 @@ struct Frame {
   GLuint gPosition, gNormal, gAlbedo, depth;
   GLuint inscatter;         // RGBA32F texture the method writes L_s into
   GLuint inscatterFbo;      // framebuffer with `inscatter` as color attachment 0, viewport = size
+  GLuint direct;            // L_surf from Direct Lighting (RGBA32F)
+  GLuint directFbo;         // a method with its own surface shadows may re-shade L_surf here
+                            // (common.glsl surfaceRadiance); the composite reads it
   GLuint lightTexture;      // 0 when the light has no texture
   GLuint uboId;             // FrameUniforms
   // Binds the frame's UBO, shadow map, light texture and G-buffer to the units in `bind`.

@@ -107,47 +107,60 @@ static std::string folderOf(const std::string& path) {
   return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-static void expand(const std::string& path, std::vector<std::string>& table, std::set<std::string>& seen,
-                   std::ostringstream& out, bool top, const std::string& defines) {
+// Includes are expanded inline without #line directives (drivers disagree on how they report
+// source-string numbers); every output line remembers its file and line instead.
+static void expand(const std::string& path, Preprocessed& out, std::set<std::string>& seen, bool top,
+                   const std::string& defines) {
   if (seen.count(path)) return;  // every file is included once
   seen.insert(path);
-  int index = int(table.size());
-  table.push_back(path);
+  int index = int(out.files.size());
+  out.files.push_back(path);
   std::istringstream in(shaderText(path));
   std::string line;
   int lineNo = 0;
   static const std::regex includeRe(R"(^\s*#\s*include\s+"([^"]+)\"\s*$)");
-  if (!top) out << "#line 1 " << index << "\n";
+  auto emit = [&](const std::string& text, int file, int fileLine) {
+    out.source += text + "\n";
+    out.lines.emplace_back(file, fileLine);
+  };
   while (std::getline(in, line)) {
     ++lineNo;
     std::smatch m;
     if (top && lineNo == 1 && line.rfind("#version", 0) == 0) {
-      out << line << "\n" << defines << (defines.empty() || defines.back() == '\n' ? "" : "\n");
-      out << "#line 2 " << index << "\n";
+      emit(line, index, lineNo);
+      std::istringstream defs(defines);
+      std::string def;
+      while (std::getline(defs, def)) emit(def, -1, 0);
     } else if (std::regex_match(line, m, includeRe)) {
       std::string name = m[1];
       std::string candidate = folderOf(path) + name;
       if (!shaderFiles().count(candidate)) candidate = "harness/shaders/" + name;
       if (!shaderFiles().count(candidate))
         throw GlError(path + ":" + std::to_string(lineNo) + ": cannot find include \"" + name + "\"");
-      expand(candidate, table, seen, out, false, defines);
-      out << "#line " << (lineNo + 1) << " " << index << "\n";
+      emit("", index, lineNo);
+      expand(candidate, out, seen, false, defines);
     } else {
-      out << line << "\n";
+      emit(line, index, lineNo);
     }
   }
 }
 
-std::string preprocess(const std::string& path, const std::string& defines, std::vector<std::string>& table) {
-  std::ostringstream out;
+Preprocessed preprocess(const std::string& path, const std::string& defines) {
+  Preprocessed out;
   std::set<std::string> seen;
-  table.clear();
-  expand(path, table, seen, out, true, defines);
-  return out.str();
+  expand(path, out, seen, true, defines);
+  return out;
+}
+
+std::string Preprocessed::locate(int outputLine) const {
+  if (outputLine < 1 || size_t(outputLine) > lines.size()) return "";
+  auto [file, line] = lines[size_t(outputLine - 1)];
+  if (file < 0) return "(defines):" + std::to_string(outputLine);
+  return files[size_t(file)] + ":" + std::to_string(line);
 }
 
 // Rewrites driver log locations ("0:12(3):" Mesa, "0(12) :" NVIDIA, "ERROR: 0:12:" AMD) to file:line.
-static std::string nameLogLocations(const std::string& log, const std::vector<std::string>& table) {
+static std::string nameLogLocations(const std::string& log, const Preprocessed& pre) {
   static const std::regex locRe(R"((\d+)(?::(\d+)\(\d+\)|\((\d+)\)|:(\d+)))");
   std::string out;
   std::istringstream in(log);
@@ -155,9 +168,9 @@ static std::string nameLogLocations(const std::string& log, const std::vector<st
   while (std::getline(in, line)) {
     std::smatch m;
     if (std::regex_search(line, m, locRe)) {
-      size_t file = std::stoul(m[1]);
       std::string lineNo = m[2].matched ? m[2].str() : m[3].matched ? m[3].str() : m[4].str();
-      if (file < table.size()) line = m.prefix().str() + table[file] + ":" + lineNo + m.suffix().str();
+      std::string where = pre.locate(std::stoi(lineNo));
+      if (!where.empty()) line = m.prefix().str() + where + m.suffix().str();
     }
     if (!line.empty()) out += line + "\n";
   }
@@ -170,10 +183,9 @@ Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& 
   std::vector<GLuint> shaders;
   std::string names;
   for (const auto& s : stages) {
-    std::vector<std::string> table;
-    std::string source = preprocess(s.path, defines, table);
+    Preprocessed pre = preprocess(s.path, defines);
     GLuint shader = glCreateShader(s.stage);
-    const char* text = source.c_str();
+    const char* text = pre.source.c_str();
     glShaderSource(shader, 1, &text, nullptr);
     glCompileShader(shader);
     GLint ok = 0;
@@ -185,7 +197,7 @@ Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& 
       glGetShaderInfoLog(shader, length, nullptr, log.data());
       glDeleteShader(shader);
       for (GLuint sh : shaders) glDeleteShader(sh);
-      std::string named = nameLogLocations(log.c_str(), table);
+      std::string named = nameLogLocations(log.c_str(), pre);
       std::string first = named.substr(0, named.find('\n'));
       throw GlError("shader compile failed: " + first);
     }

@@ -80,9 +80,14 @@ inline Program buildCompute(const std::string& path, const std::string& defines 
 }
 // Vertex shader harness/shaders/fullscreen.vert + the given fragment shader.
 Program buildFullscreen(const std::string& fragmentPath, const std::string& defines = "");
-// The preprocessed source (includes expanded, #line markers) and the file table, for tests.
-std::string preprocess(const std::string& path, const std::string& defines,
-                       std::vector<std::string>& fileTable);
+// A shader with its includes expanded; every output line knows the file and line it came from.
+struct Preprocessed {
+  std::string source;
+  std::vector<std::string> files;
+  std::vector<std::pair<int, int>> lines;  // per output line: (index into files or -1, line)
+  std::string locate(int outputLine) const;  // "path:line" for a 1-based output line
+};
+Preprocessed preprocess(const std::string& path, const std::string& defines = "");
 // Hash of every embedded shader, for cache keys.
 std::string shaderSourcesHash();
 const std::map<std::string, std::string>& shaderFiles();

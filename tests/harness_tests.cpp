@@ -1,5 +1,6 @@
 // Timer, result files, effects and method-spec parsing.
 #include <chrono>
+#include <sstream>
 #include <cmath>
 #include <filesystem>
 #include <thread>
@@ -80,6 +81,30 @@ TEST_F(TimerTest, CalibrationPicksWallClockWhereQueriesDisagree) {
   if (isLlvmpipe()) {
     EXPECT_EQ(c.chosen, TimerStrategy::WallClock);
   }
+}
+
+TEST(ShaderSourceTest, IncludesAreExpandedAndEveryLineKnowsItsFile) {
+  gl::Preprocessed pre = gl::preprocess("harness/shaders/direct.frag", "#define X 1\n");
+  ASSERT_EQ(pre.files.size(), 2u);
+  EXPECT_EQ(pre.files[1], "harness/shaders/common.glsl");
+  std::istringstream in(pre.source);
+  std::string line;
+  int n = 0;
+  bool sawMain = false, sawCommon = false, sawDefine = false;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.find("outRadiance = vec4(surfaceRadiance") != std::string::npos) {
+      EXPECT_EQ(pre.locate(n), "harness/shaders/direct.frag:7");
+      sawMain = true;
+    }
+    if (line.find("float phase(float cosTheta)") != std::string::npos) {
+      EXPECT_EQ(pre.locate(n).rfind("harness/shaders/common.glsl:", 0), 0u) << pre.locate(n);
+      sawCommon = true;
+    }
+    sawDefine = sawDefine || line == "#define X 1";
+  }
+  EXPECT_TRUE(sawMain && sawCommon && sawDefine);
+  EXPECT_EQ(pre.source.rfind("#version 450 core\n", 0), 0u);
 }
 
 TEST(ResultsTest, CsvRoundTripsQuotesAndCommas) {

@@ -131,6 +131,26 @@ float shadowTexelWorldSize(vec3 x) {
   return 2.0 * halfTan * dist / size;
 }
 
+// Lambert surface radiance at a G-buffer pixel for a given light visibility (0 on sky pixels).
+// Direct Lighting uses shadow-map visibility; a method with surface shadows of its own re-shades
+// with its visibility through the same function.
+vec3 surfaceRadiance(ivec2 pixel, float visibility) {
+  vec4 n = texelFetch(gNormal, pixel, 0);
+  if (n.w < 0.5) return vec3(0.0);
+  vec3 x = texelFetch(gPosition, pixel, 0).xyz;
+  vec3 albedo = texelFetch(gAlbedo, pixel, 0).rgb;
+  float cosine = max(dot(n.xyz, -lightTravelDir(x)), 0.0);
+  return albedo / PI * lightIncident(x) * cosine * visibility;
+}
+
+// Shadow-map visibility of the surface at a G-buffer pixel, with a normal offset against acne.
+float surfaceShadowVisibility(ivec2 pixel) {
+  vec4 n = texelFetch(gNormal, pixel, 0);
+  vec3 x = texelFetch(gPosition, pixel, 0).xyz;
+  if (n.w < 0.5 || dot(n.xyz, -lightTravelDir(x)) <= 0.0) return 0.0;
+  return shadowVisibility(x + n.xyz * 1.5 * shadowTexelWorldSize(x));
+}
+
 // Camera ray through a pixel of the G-buffer: unit direction and distance to the first hit
 // (or to the far plane when nothing is hit).
 void cameraRay(ivec2 pixel, out vec3 dir, out float dist) {
