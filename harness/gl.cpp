@@ -177,13 +177,55 @@ static std::string nameLogLocations(const std::string& log, const Preprocessed& 
   return out;
 }
 
-Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& defines) {
+// Linked programs of this process by their full source text, so a sweep that sets a method up
+// again (another parameter set, another scene state) relinks from the driver's binary.
+struct ProgramBinary {
+  GLenum format = 0;
+  std::vector<uint8_t> bytes;
+};
+static std::map<std::string, ProgramBinary> g_programBinaries;
+
+static Program fromBinary(const ProgramBinary& binary) {
   GLuint program = glCreateProgram();
   Program owner(program);
+  glProgramBinary(program, binary.format, binary.bytes.data(), GLsizei(binary.bytes.size()));
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  return ok ? std::move(owner) : Program();
+}
+
+static void rememberBinary(GLuint program, const std::string& key) {
+  GLint formats = 0, length = 0;
+  glGetIntegerv(GL_NUM_PROGRAM_BINARY_FORMATS, &formats);
+  glGetProgramiv(program, GL_PROGRAM_BINARY_LENGTH, &length);
+  if (formats <= 0 || length <= 0) return;
+  ProgramBinary binary;
+  binary.bytes.resize(size_t(length));
+  glGetProgramBinary(program, length, nullptr, &binary.format, binary.bytes.data());
+  g_programBinaries[key] = std::move(binary);
+}
+
+Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& defines) {
+  std::vector<Preprocessed> sources;
+  std::string key;
+  for (const auto& s : stages) {
+    sources.push_back(preprocess(s.path, defines));
+    key += std::to_string(s.stage) + '\0' + sources.back().source + '\0';
+  }
+  auto cached = g_programBinaries.find(key);
+  if (cached != g_programBinaries.end()) {
+    Program program = fromBinary(cached->second);
+    if (program) return program;
+    g_programBinaries.erase(cached);  // the driver refused its own binary: compile again
+  }
+  GLuint program = glCreateProgram();
+  Program owner(program);
+  glProgramParameteri(program, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
   std::vector<GLuint> shaders;
   std::string names;
-  for (const auto& s : stages) {
-    Preprocessed pre = preprocess(s.path, defines);
+  for (size_t i = 0; i < stages.size(); ++i) {
+    const ShaderStage& s = stages[i];
+    const Preprocessed& pre = sources[i];
     GLuint shader = glCreateShader(s.stage);
     const char* text = pre.source.c_str();
     glShaderSource(shader, 1, &text, nullptr);
@@ -220,6 +262,7 @@ Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& 
     std::string first = std::string(log.c_str()).substr(0, std::string(log.c_str()).find('\n'));
     throw GlError("shader link failed (" + names + "): " + first);
   }
+  rememberBinary(program, key);
   return owner;
 }
 
@@ -319,7 +362,10 @@ void drawFullscreenTriangle() {
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-void releaseSharedObjects() { g_emptyVao.reset(); }
+void releaseSharedObjects() {
+  g_emptyVao.reset();
+  g_programBinaries.clear();  // binaries belong to the context's driver
+}
 
 Limits queryLimits() {
   Limits l;

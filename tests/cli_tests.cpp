@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "bad_inputs.hpp"
 #include "gl_test.hpp"
 #include "harness/results.hpp"
 
@@ -38,45 +39,19 @@ TEST(CliTest, HelpExitsCleanly) {
   EXPECT_NE(r.out.find("shootout"), std::string::npos);
 }
 
-struct BadInput {
-  const char* name;
-  std::vector<std::string> args;  // "%DIR%" is replaced by a temp folder holding fixture files
-  const char* expectInError;
-};
-
-void PrintTo(const BadInput& b, std::ostream* os) { *os << b.name; }
-
 class BadInputTest : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(BadInputTest, OneClearLineNonZeroExitNothingWritten) {
   const BadInput& bad = GetParam();
   std::string dir = makeTempDir("bad");
-  writeFile(dir + "/malformed.json", "{ \"camera\": [1, 2,, }");
-  writeFile(dir + "/unknown-key.json", R"({"geometry": [], "camera": {}, "light": {"type": "point"}, "colour": 1})");
-  const std::string camera = R"("camera": {"position": [0, 1, 5], "target": [0, 0, 0]})";
-  writeFile(dir + "/bad-gltf.json", R"({"geometry": [{"gltf": "broken.gltf"}], )" + camera + "}");
-  writeFile(dir + "/broken.gltf", "{ \"asset\": {\"version\": \"2.0\"}, \"buffers\": [ ");
-  writeFile(dir + "/missing-gltf.json", R"({"geometry": [{"gltf": "nowhere.gltf"}], )" + camera + "}");
-  // A glTF whose buffer claims more bytes than its .bin file holds.
-  writeFile(dir + "/short.bin", std::string(12, '\0'));
-  writeFile(dir + "/truncated.gltf", R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
-    "buffers": [{"uri": "short.bin", "byteLength": 36}], "bufferViews": [{"buffer": 0, "byteLength": 36}],
-    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                   "min": [0, 0, 0], "max": [1, 1, 0]}]})");
-  writeFile(dir + "/truncated-gltf.json", R"({"geometry": [{"gltf": "truncated.gltf"}], )" + camera +
-                                               R"(, "light": {"type": "point", "position": [0, 3, 0], "intensity": 1}})");
+  writeBadInputFixtures(dir);
   // An output folder that already holds results: bad input must leave it untouched.
   std::string out = dir + "/out";
   fs::create_directories(out);
   writeFile(out + "/runs.csv", "sentinel\n");
-  std::vector<std::string> args;
-  for (std::string a : bad.args) {
-    auto pos = a.find("%DIR%");
-    if (pos != std::string::npos) a.replace(pos, 5, dir);
-    args.push_back(a);
-  }
-  args.insert(args.end(), {"--out", out, "--cache", dir + "/cache"});
+  std::vector<std::string> args = badInputArgs(bad, dir);
+  if (std::find(args.begin(), args.end(), "--out") == args.end()) args.insert(args.end(), {"--out", out});
+  args.insert(args.end(), {"--cache", dir + "/cache"});
   CommandResult r = runVshadow(args);
   EXPECT_NE(r.exitCode, 0) << bad.name;
   EXPECT_EQ(nonEmptyLines(r.err), 1) << bad.name << ": " << r.err;
@@ -88,42 +63,8 @@ TEST_P(BadInputTest, OneClearLineNonZeroExitNothingWritten) {
   EXPECT_FALSE(fs::exists(dir + "/cache")) << bad.name;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, BadInputTest,
-    ::testing::Values(
-        BadInput{"missing_scene", {"run", "--scene", "%DIR%/nope.json", "--method", "raymarch"}, "nope.json"},
-        BadInput{"malformed_json", {"run", "--scene", "%DIR%/malformed.json", "--method", "raymarch"}, "malformed.json"},
-        BadInput{"unknown_scene_key", {"run", "--scene", "%DIR%/unknown-key.json", "--method", "raymarch"}, "colour"},
-        BadInput{"malformed_gltf", {"run", "--scene", "%DIR%/bad-gltf.json", "--method", "raymarch"}, "broken.gltf"},
-        BadInput{"missing_gltf", {"run", "--scene", "%DIR%/missing-gltf.json", "--method", "raymarch"}, "nowhere.gltf"},
-        BadInput{"truncated_gltf_buffer", {"run", "--scene", "%DIR%/truncated-gltf.json", "--method", "raymarch"},
-                 "truncated.gltf"},
-        BadInput{"nan_scene_value", {"run", "--scene", "spheres", "--method", "raymarch:steps=nan"}, "steps=nan"},
-        BadInput{"unknown_method", {"run", "--scene", "spheres", "--method", "nosuch"}, "unknown method 'nosuch'"},
-        BadInput{"unknown_key", {"run", "--scene", "spheres", "--method", "raymarch:stepz=4"}, "stepz"},
-        BadInput{"out_of_range", {"run", "--scene", "spheres", "--method", "raymarch:steps=0"}, "out of range"},
-        BadInput{"not_a_number", {"run", "--scene", "spheres", "--method", "raymarch:steps=many"}, "not an integer"},
-        BadInput{"nan_value", {"run", "--scene", "spheres", "--method", "raymarch:sm=nan"}, "sm=nan"},
-        BadInput{"shadow_map_over_limit", {"run", "--scene", "spheres", "--method", "raymarch:sm=1048576"}, "out of range"},
-        BadInput{"size_over_gl_limit", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "999999x16"},
-                 "exceeds"},
-        BadInput{"malformed_size", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "big"}, "--size"},
-        BadInput{"unknown_option", {"run", "--scene", "spheres", "--method", "raymarch", "--colour"}, "colour"},
-        BadInput{"bad_frames", {"run", "--scene", "spheres", "--method", "raymarch", "--frames", "0"}, "frames"},
-        BadInput{"unknown_reference_method",
-                 {"run", "--scene", "spheres", "--method", "raymarch", "--reference", "nosuch:steps=1"}, "nosuch"}),
-    [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
-
-TEST(CliTest, UnwritableOutputFolderIsOneLine) {
-  std::string dir = makeTempDir("unwritable");
-  writeFile(dir + "/a-file", "not a folder");
-  CommandResult r = runVshadow({"run", "--scene", "spheres", "--method", "raymarch:steps=4", "--size", "16x16",
-                                "--out", dir + "/a-file/results", "--cache", dir + "/cache"});
-  EXPECT_NE(r.exitCode, 0);
-  EXPECT_EQ(nonEmptyLines(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find("a-file/results"), std::string::npos) << r.err;
-  EXPECT_EQ(readFile(dir + "/a-file"), "not a folder");
-}
+INSTANTIATE_TEST_SUITE_P(Cases, BadInputTest, ::testing::ValuesIn(badInputs()),
+                         [](const ::testing::TestParamInfo<BadInput>& info) { return info.param.name; });
 
 TEST(CliTest, ShaderThatFailsToCompileIsAFailureRowAndTheSweepGoesOn) {
   std::string dir = makeTempDir("shader");

@@ -1,0 +1,81 @@
+#include "bad_inputs.hpp"
+
+#include "gl_test.hpp"
+
+namespace vs::testing {
+
+const std::vector<BadInput>& badInputs() {
+  static const std::vector<BadInput> inputs = {
+      {"missing_scene", {"run", "--scene", "%DIR%/nope.json", "--method", "raymarch"}, "nope.json",
+       "scene file that does not exist"},
+      {"malformed_json", {"run", "--scene", "%DIR%/malformed.json", "--method", "raymarch"}, "malformed.json",
+       "scene JSON with a syntax error"},
+      {"unknown_scene_key", {"run", "--scene", "%DIR%/unknown-key.json", "--method", "raymarch"}, "colour",
+       "scene JSON with a misspelt key"},
+      {"malformed_gltf", {"run", "--scene", "%DIR%/bad-gltf.json", "--method", "raymarch"}, "broken.gltf",
+       "glTF file that is not valid JSON"},
+      {"missing_gltf", {"run", "--scene", "%DIR%/missing-gltf.json", "--method", "raymarch"}, "nowhere.gltf",
+       "glTF file that does not exist"},
+      {"truncated_gltf_buffer", {"run", "--scene", "%DIR%/truncated-gltf.json", "--method", "raymarch"},
+       "truncated.gltf", "glTF whose .bin is shorter than its declared byteLength"},
+      {"nan_param", {"run", "--scene", "spheres", "--method", "raymarch:steps=nan"}, "steps=nan",
+       "NaN as an integer parameter"},
+      {"nan_shadow_map", {"run", "--scene", "spheres", "--method", "raymarch:sm=nan"}, "sm=nan",
+       "NaN as the shadow-map size"},
+      {"unknown_method", {"run", "--scene", "spheres", "--method", "nosuch"}, "unknown method 'nosuch'",
+       "method that is not registered"},
+      {"unknown_key", {"run", "--scene", "spheres", "--method", "raymarch:stepz=4"}, "stepz",
+       "parameter the method does not have"},
+      {"out_of_range", {"run", "--scene", "spheres", "--method", "raymarch:steps=0"}, "out of range",
+       "parameter below its range"},
+      {"not_a_number", {"run", "--scene", "spheres", "--method", "raymarch:steps=many"}, "not an integer",
+       "parameter that is not a number"},
+      {"malformed_spec", {"run", "--scene", "spheres", "--method", "raymarch:steps"}, "not key=value",
+       "method spec without a value"},
+      {"shadow_map_over_limit", {"run", "--scene", "spheres", "--method", "raymarch:sm=1048576"}, "out of range",
+       "shadow map larger than GL_MAX_TEXTURE_SIZE"},
+      {"size_over_gl_limit", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "999999x16"}, "exceeds",
+       "image larger than the GL limits"},
+      {"malformed_size", {"run", "--scene", "spheres", "--method", "raymarch", "--size", "big"}, "--size",
+       "--size that is not WxH"},
+      {"unknown_option", {"run", "--scene", "spheres", "--method", "raymarch", "--colour"}, "colour",
+       "command-line option that does not exist"},
+      {"bad_frames", {"run", "--scene", "spheres", "--method", "raymarch", "--frames", "0"}, "frames",
+       "--frames 0"},
+      {"unknown_reference_method", {"run", "--scene", "spheres", "--method", "raymarch", "--reference", "nosuch:steps=1"},
+       "nosuch", "--reference naming an unknown method"},
+      {"unwritable_output", {"run", "--scene", "spheres", "--method", "raymarch", "--out", "%DIR%/a-file/results"},
+       "a-file/results", "--out below a regular file (cannot be created)"},
+  };
+  return inputs;
+}
+
+void writeBadInputFixtures(const std::string& dir) {
+  writeFile(dir + "/malformed.json", "{ \"camera\": [1, 2,, }");
+  writeFile(dir + "/unknown-key.json", R"({"geometry": [], "camera": {}, "light": {"type": "point"}, "colour": 1})");
+  const std::string camera = R"("camera": {"position": [0, 1, 5], "target": [0, 0, 0]})";
+  writeFile(dir + "/bad-gltf.json", R"({"geometry": [{"gltf": "broken.gltf"}], )" + camera + "}");
+  writeFile(dir + "/broken.gltf", "{ \"asset\": {\"version\": \"2.0\"}, \"buffers\": [ ");
+  writeFile(dir + "/missing-gltf.json", R"({"geometry": [{"gltf": "nowhere.gltf"}], )" + camera + "}");
+  writeFile(dir + "/short.bin", std::string(12, '\0'));
+  writeFile(dir + "/truncated.gltf", R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"uri": "short.bin", "byteLength": 36}], "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]}]})");
+  writeFile(dir + "/truncated-gltf.json", R"({"geometry": [{"gltf": "truncated.gltf"}], )" + camera +
+                                               R"(, "light": {"type": "point", "position": [0, 3, 0], "intensity": 1}})");
+  writeFile(dir + "/a-file", "not a folder");
+}
+
+std::vector<std::string> badInputArgs(const BadInput& bad, const std::string& dir) {
+  std::vector<std::string> args;
+  for (std::string a : bad.args) {
+    auto pos = a.find("%DIR%");
+    if (pos != std::string::npos) a.replace(pos, 5, dir);
+    args.push_back(a);
+  }
+  return args;
+}
+
+}  // namespace vs::testing
