@@ -7,6 +7,7 @@
 
 #include "gl_test.hpp"
 #include "hard_cases.hpp"
+#include "stress.hpp"
 #include "harness/metrics.hpp"
 
 namespace vs::testing {
@@ -77,6 +78,25 @@ TEST_P(StabilityTest, StaysFiniteBoundedAndDeterministic) {
       << "L_s relMSE " << err.relmse << ", rmse " << err.rmse << " against " << ref.method << ":" << ref.params;
   RecordProperty("ls_relmse", std::to_string(err.relmse));
 }
+
+// A seeded slice of the randomized stress (vshadow_stress runs >= 10,000 per method).
+class StressSliceTest : public GlTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(StressSliceTest, RandomConfigurationsStayFinite) {
+  StressOptions options;
+  options.seed = 20261121;
+  options.configs = 24;
+  StressSummary s = runStress(GetParam(), options, glLimits());
+  std::printf("%s: %d tried, %d unsupported, worst L_s relMSE %.3g (config %u)\n", GetParam().c_str(), s.tried,
+              s.unsupported, s.worstRelmse, s.worstIndex);
+  EXPECT_EQ(s.failures, 0) << s.firstFailure;
+  EXPECT_EQ(s.nonFinite, 0);
+  EXPECT_EQ(s.negative, 0);
+  EXPECT_GT(s.tried, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, StressSliceTest, ::testing::ValuesIn(methodNames()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 INSTANTIATE_TEST_SUITE_P(HardCases, StabilityTest,
                          ::testing::Combine(::testing::ValuesIn(caseNames()), ::testing::ValuesIn(methodNames())),

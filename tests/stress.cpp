@@ -1,0 +1,124 @@
+#include "stress.hpp"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "harness/metrics.hpp"
+
+namespace vs::testing {
+
+namespace {
+using json = nlohmann::json;
+
+// Uniform doubles from mt19937_64 bits (std distributions differ between standard libraries).
+struct Random {
+  std::mt19937_64 engine;
+  double uniform(double lo, double hi) { return lo + (hi - lo) * (double(engine() >> 11) * 0x1.0p-53); }
+  double logUniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
+  json point(double lo, double hi, double ylo, double yhi) {
+    return json::array({uniform(lo, hi), uniform(ylo, yhi), uniform(lo, hi)});
+  }
+  bool chance(double p) { return uniform(0, 1) < p; }
+};
+}  // namespace
+
+Scene randomStressScene(uint32_t seed, uint32_t index) {
+  Random r{std::mt19937_64((uint64_t(seed) << 32) ^ (index * 0x9E3779B97F4A7C15ull))};
+  json scene = {
+      {"geometry",
+       json::array({{{"generator", "plane"}, {"params", {{"size", {16, 16}}}}},
+                    {{"generator", "box"}, {"params", {{"center", r.point(-3, 3, 0.5, 2)}, {"size", r.point(0.2, 2, 0.2, 3)}}}},
+                    {{"generator", "sphere"}, {"params", {{"center", r.point(-3, 3, 0.5, 3)}, {"radius", r.uniform(0.2, 1.5)}, {"segments", 16}}}},
+                    {{"generator", "torus"}, {"params", {{"center", r.point(-3, 3, 1, 4)}, {"rotate_deg", r.point(0, 180, 0, 180)}}}}})}};
+  json eye = r.point(-8, 8, 0.05, 6);
+  json target = r.point(-3, 3, 0, 3);
+  scene["camera"] = {{"position", eye},
+                     {"target", target},
+                     {"fov_y_deg", r.uniform(20, 110)},
+                     {"near", r.logUniform(1e-3, 0.5)},
+                     {"far", r.uniform(20, 200)}};
+  double pick = r.uniform(0, 3);
+  json light;
+  if (pick < 1) {
+    light = {{"type", "point"}, {"position", r.chance(0.1) ? eye : r.point(-6, 6, 0.2, 8)}};
+  } else if (pick < 2) {
+    double outer = r.uniform(5, 85);
+    light = {{"type", "spot"},      {"position", r.point(-6, 6, 0.2, 8)}, {"target", r.point(-3, 3, 0, 1)},
+             {"spot_outer_deg", outer}, {"spot_inner_deg", outer * r.uniform(0, 1)}};
+  } else {
+    json dir = r.point(-1, 1, -1, 0.3);
+    if (std::fabs(dir[0].get<double>()) + std::fabs(dir[1].get<double>()) + std::fabs(dir[2].get<double>()) < 1e-3)
+      dir = json::array({0, -1, 0});
+    light = {{"type", "directional"}, {"direction", dir}};
+  }
+  light["intensity"] = light["type"] == "directional" ? r.logUniform(0.1, 10) : r.logUniform(1, 200);
+  light["color"] = json::array({r.uniform(0.2, 1), r.uniform(0.2, 1), r.uniform(0.2, 1)});
+  scene["light"] = light;
+  json medium = {{"sigma_s", r.chance(0.1) ? 0.0 : r.logUniform(1e-4, 2)},
+                 {"sigma_a", r.chance(0.3) ? 0.0 : r.logUniform(1e-4, 1)}};
+  if (r.chance(0.4)) {
+    medium["phase"] = "hg";
+    medium["g"] = r.uniform(-0.9, 0.9);
+  }
+  scene["medium"] = medium;
+  return parseSceneJson(scene.dump(), ".", "stress config " + std::to_string(seed) + "/" + std::to_string(index));
+}
+
+StressSummary runStress(const std::string& methodName, const StressOptions& options, const gl::Limits& limits,
+                        const std::function<void(int, int)>& progress) {
+  StressSummary summary;
+  summary.method = methodName;
+  ResolvedSpec spec = resolveSpec(methodName + ":sm=256", limits);
+  std::string referenceSpec;
+  for (const auto& info : registeredMethods()) {
+    auto m = info.create();
+    if (!m->referenceParams().empty()) {
+      referenceSpec = info.name + ":" + m->referenceParams() + ":sm=256";
+      break;
+    }
+  }
+  ResolvedSpec reference = resolveSpec(referenceSpec, limits);
+  RunOptions run;
+  run.width = options.width;
+  run.height = options.height;
+  run.frames = 1;
+  run.warmup = 0;
+  for (int i = 0; i < options.configs; ++i) {
+    Scene scene = randomStressScene(options.seed, uint32_t(i));
+    auto method = createMethod(methodName);
+    if (!method->unsupportedReason(scene, spec.params).empty()) {
+      ++summary.unsupported;
+    } else {
+      ++summary.tried;
+      Runner runner(scene, limits, run);
+      MethodRun result = runner.run(*method, spec.params);
+      if (result.status != RunStatus::Success) {
+        ++summary.failures;
+        if (result.nonFinitePixels > 0) ++summary.nonFinite;
+        if (summary.firstFailure.empty()) summary.firstFailure = "config " + std::to_string(i) + ": " + result.reason;
+      } else {
+        bool negative = false;
+        for (float v : result.final.rgb) negative = negative || v < 0.0f;
+        for (float v : result.inscatter.rgb) negative = negative || v < 0.0f;
+        summary.negative += negative;
+        auto refMethod = createMethod(reference.method);
+        MethodRun ref = runner.run(*refMethod, reference.params);
+        // Light on the camera ray origin: the integral diverges, no reference to be close to.
+        bool singular = scene.light.type != LightType::Directional &&
+                        glm::length(scene.light.position - scene.camera.position) < 1e-3f;
+        if (ref.status == RunStatus::Success && !singular) {
+          double relmse = compareImages(result.inscatter, ref.inscatter).relmse;
+          if (relmse > summary.worstRelmse) {
+            summary.worstRelmse = relmse;
+            summary.worstIndex = uint32_t(i);
+          }
+        }
+      }
+    }
+    if (progress) progress(i + 1, options.configs);
+  }
+  return summary;
+}
+
+}  // namespace vs::testing
