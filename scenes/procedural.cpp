@@ -453,15 +453,22 @@ Mesh makeTriangle(const TriangleParams& p) {
 // JSON parameters
 
 namespace {
+uint64_t g_triangleLimit = kMaxGeneratedTriangles;
+}  // namespace
+
+uint64_t generatedTriangleLimit() { return g_triangleLimit; }
+void setGeneratedTriangleLimit(uint64_t limit) { g_triangleLimit = std::min(limit, kMaxGeneratedTriangles); }
+
+namespace {
 
 constexpr int64_t kMaxSeed = 4294967295;
 const Range kAny = Range::any();
 const Range kPositive = Range::above(0.0);
 
 void checkBudget(const ObjectReader& params, uint64_t triangles) {
-  if (triangles > kMaxGeneratedTriangles)
+  if (triangles > g_triangleLimit)
     params.location().fail("these parameters would produce " + std::to_string(triangles) +
-                           " triangles, more than the limit of " + std::to_string(kMaxGeneratedTriangles));
+                           " triangles, more than the limit of " + std::to_string(g_triangleLimit));
 }
 
 int readInt(ObjectReader& params, const std::string& key, int fallback, int lo, int hi) {

@@ -17,6 +17,9 @@ namespace vs {
 constexpr const char* kProceduralVersion = "procedural-v1";
 // Upper limit on the triangles one generator call may produce (guards against typos like 1e6 segments).
 constexpr uint64_t kMaxGeneratedTriangles = 20'000'000;
+// The limit in force (kMaxGeneratedTriangles unless lowered, e.g. by a fuzzer that must stay fast).
+uint64_t generatedTriangleLimit();
+void setGeneratedTriangleLimit(uint64_t limit);
 
 struct PlaneParams {        // horizontal, facing +Y
   glm::vec3 center{0.0f};
