@@ -14,13 +14,21 @@ namespace vsv {
 // Epipolar frame (§2.1): axis from the eye towards the light, θ the angle of the epipolar half-plane
 // around it, α the angle at the eye from the axis, φ the angle at the light from the light-to-eye
 // direction. `distance` is |light - eye|, clamped away from zero (§4.2): the grid's light sits on
-// the axis at that distance.
+// the axis at that distance. A directional light has its axis towards the light at infinity and
+// φ becomes the distance from the axis (light rays are parallel to it), up to `phiRange`.
 struct EpipolarBasis {
   glm::dvec3 eye{0}, light{0}, axis{0, 0, -1}, e1{1, 0, 0}, e2{0, 1, 0};
   double distance = 1.0;
+  bool directional = false;
+  double phiRange = 3.14159265358979323846;  // fixed φ_max: π, or the largest distance from the axis
 };
 // `fallbackAxis` is used when the light is (almost) at the eye.
 EpipolarBasis makeBasis(glm::dvec3 eye, glm::dvec3 light, glm::dvec3 fallbackAxis, double minDistance);
+// Directional light travelling along `travelDir`; `phiRange` bounds every occluder's distance
+// from the axis (see sceneAxisDistance).
+EpipolarBasis makeDirectionalBasis(glm::dvec3 eye, glm::dvec3 travelDir, double phiRange);
+// Largest distance from the line through `eye` along unit `axis` over the box [lo, hi].
+double sceneAxisDistance(glm::dvec3 eye, glm::dvec3 axis, glm::dvec3 lo, glm::dvec3 hi);
 
 struct EpiCoords {
   double theta = 0, alpha = 0, phi = 0;  // θ in [0, 2π), α and φ in [0, π]
@@ -42,7 +50,7 @@ struct GridUniforms {
   glm::vec4 light;      // xyz grid light
   glm::vec4 axis, e1, e2;
   glm::ivec4 grid;      // N_α, N_θ, N_φ, layers
-  glm::vec4 ranges;     // fixed α_max, fixed φ_max, dynamic (1/0), unused
+  glm::vec4 ranges;     // fixed α_max, fixed φ_max, dynamic (1/0), directional (1/0)
 };
 GridUniforms makeGridUniforms(const EpipolarBasis& basis, const GridSize& size, bool dynamicRanges);
 
@@ -87,6 +95,7 @@ class VsvMethod : public Method {
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> qualityLadder() const override;
+  std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
@@ -97,17 +106,20 @@ class VsvMethod : public Method {
   void voxelizeFromShadowMap(const Frame& frame, PassTimer& timer);
   void voxelizeGeometry(const Frame& frame, PassTimer& timer);
   void integrate(const Frame& frame, PassTimer& timer);
+  void shadeSurfaces(const Frame& frame, PassTimer& timer);
 
   vsv::GridSize size_;
-  bool fromGeometry_ = false, dynamicRanges_ = true;
-  int tessLevel_ = 1, coarse_ = 4;
+  bool fromGeometry_ = false, dynamicRanges_ = true, surfaceShadows_ = false;
+  int coarse_ = 4;
+  glm::vec2 surfaceBias_{2.0f, 0.5f};  // towards the light, along the normal (voxels)
+  glm::vec3 boundsLo_{0}, boundsHi_{0};
   float sceneRadius_ = 1.0f;
   int width_ = 0, height_ = 0;
   std::unique_ptr<vsv::VoxelBuffer> voxels_;
   std::unique_ptr<vsv::Scan> scan_;
   gl::Buffer gridUbo_, rangesSsbo_;
   gl::VertexArray emptyVao_;
-  gl::Program rangesProgram_, fromSmProgram_, geometryProgram_, inscatterProgram_;
+  gl::Program rangesProgram_, fromSmProgram_, geometryProgram_, inscatterProgram_, surfaceProgram_;
 };
 
 }  // namespace vs

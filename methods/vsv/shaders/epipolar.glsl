@@ -1,5 +1,7 @@
 // Epipolar space of the VSV grid (Wyman 2011, §2.1) and the voxel-buffer layout (§2.2).
 // Mirrors vs::vsv::GridUniforms and the CPU functions in methods/vsv/vsv.cpp.
+// Directional light: the axis points towards the light at infinity, light rays are the lines
+// parallel to it, and the third coordinate ("φ") is the distance from the axis instead of an angle.
 layout(std140, binding = 1) uniform VsvBlock {
   vec4 eyeAndDistance;  // xyz eye; w = distance to the grid light (> 0)
   vec4 gridLight;       // xyz light on the axis at that distance
@@ -7,7 +9,9 @@ layout(std140, binding = 1) uniform VsvBlock {
   vec4 e1;              // axis, e1, e2 orthonormal; θ = 0 along e1
   vec4 e2;
   ivec4 grid;           // N_α, N_θ, N_φ, layers of 128 φ bits
-  vec4 fixedRanges;     // α_max, φ_max without dynamic ranges; z = 1 when dynamic (§4.3)
+  vec4 fixedRanges;     // α_max, φ_max without dynamic ranges (π, or the scene's largest
+                        // distance from the axis for a directional light); z = 1 when dynamic
+                        // (§4.3); w = 1 for a directional light
 } vsv;
 
 // Dynamic angular ranges (§4.3), reduced over the G-buffer as float bits by ranges.comp.
@@ -31,8 +35,12 @@ float alphaMax() {
   if (vsv.fixedRanges.z < 0.5) return vsv.fixedRanges.x;
   return clamp(uintBitsToFloat(vsvRanges.alphaMaxBits), 1e-4, PI);
 }
+bool parallelLight() { return vsv.fixedRanges.w > 0.5; }
+// Directional light: always the fixed range, the scene's largest distance from the axis (beyond
+// it nothing is shadowed); rays to the far plane usually reach past it anyway. A dynamic range
+// there gave wrong L_s on llvmpipe although every pass read the same value (not understood).
 float phiMax() {
-  if (vsv.fixedRanges.z < 0.5) return vsv.fixedRanges.y;
+  if (vsv.fixedRanges.z < 0.5 || parallelLight()) return vsv.fixedRanges.y;
   return clamp(uintBitsToFloat(vsvRanges.phiMaxBits), 1e-4, PI);
 }
 
@@ -52,7 +60,7 @@ vec2 planeCoords(vec3 offsetFromEye) {
   return vec2(x, length(perp));
 }
 float alphaOfPlane(vec2 p) { return safeAtan(p.y, p.x); }
-float phiOfPlane(vec2 p) { return safeAtan(p.y, gridDistance() - p.x); }
+float phiOfPlane(vec2 p) { return parallelLight() ? p.y : safeAtan(p.y, gridDistance() - p.x); }
 vec3 epipolarCoords(vec3 world) {  // (θ, α, φ)
   vec3 offset = world - vsv.eyeAndDistance.xyz;
   vec2 p = planeCoords(offset);

@@ -1,6 +1,7 @@
 #version 450 core
 // "Voxelize: From SM" (§4.1.3): one point per (θ row, φ bin). The light ray at the cell centre is
-// looked up in the shadow map; its first occluder becomes one bit at (α_d, θ).
+// looked up in the shadow map; its first occluder becomes one bit at (α_d, θ). Directional light:
+// the ray is the line parallel to the axis at distance φ from it.
 #include "common.glsl"
 #include "epipolar.glsl"
 layout(binding = 8) uniform sampler2D shadowDepth2D;
@@ -34,16 +35,38 @@ bool occluderDistance(vec3 w, out float t) {
   return true;
 }
 
+// Directional light: the first occluder on the light ray through p (orthographic shadow map,
+// window depth linear along the travel direction); false when none.
+bool parallelOccluder(vec3 p, out vec3 hit) {
+  hit = p;
+  vec4 clip = u.lightViewProj * vec4(p, 1.0);
+  vec2 st = clip.xy * 0.5 + 0.5;
+  if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return false;
+  float depth = textureLod(shadowDepth2D, st, 0.0).r;
+  if (depth >= 1.0) return false;
+  float zPerUnit = (u.lightViewProj * vec4(u.lightDir.xyz, 0.0)).z;  // NDC z per unit travelled
+  if (abs(zPerUnit) < 1e-20) return false;
+  hit = p + u.lightDir.xyz * ((depth * 2.0 - 1.0 - clip.z) / zPerUnit);
+  return true;
+}
+
 void main() {
   gl_PointSize = 1.0;
   vBin = gl_VertexID % nPhi();
   int row = gl_VertexID / nPhi();
   float theta = (float(row) + 0.5) / float(nTheta()) * TWO_PI;
   float phi = (float(vBin) + 0.5) / float(nPhi()) * phiMax();
-  vec3 w = cos(phi) * -vsv.axis.xyz + sin(phi) * halfPlaneDir(theta);
-  float t;
   int col = -1;
-  if (occluderDistance(w, t)) col = alphaColumn(epipolarCoords(u.lightPos.xyz + t * w).y, alphaMax());
+  if (parallelLight()) {
+    // φ is the light ray's distance from the axis.
+    vec3 hit;
+    if (parallelOccluder(vsv.eyeAndDistance.xyz + phi * halfPlaneDir(theta), hit))
+      col = alphaColumn(epipolarCoords(hit).y, alphaMax());
+  } else {
+    vec3 w = cos(phi) * -vsv.axis.xyz + sin(phi) * halfPlaneDir(theta);
+    float t;
+    if (occluderDistance(w, t)) col = alphaColumn(epipolarCoords(u.lightPos.xyz + t * w).y, alphaMax());
+  }
   if (col < 0) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: no bit
     return;

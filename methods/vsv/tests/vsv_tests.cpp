@@ -2,6 +2,7 @@
 // in the hard triangle cases against raymarch, convergence with grid resolution, hard cases.
 #include <glm/gtc/constants.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -117,18 +118,18 @@ void checkTransform(const vsv::EpipolarBasis& basis, const char* what) {
       EXPECT_LT(std::min(dTheta, 2 * pi - dTheta), 1e-4) << what << " theta of point " << i;
     }
     EXPECT_NEAR(r.coords[i].y, c.alpha, 1e-4) << what << " alpha of point " << i;
-    bool atLight = glm::length(points[i] - basis.light) < 1e-4 * basis.distance;  // φ undefined there
+    bool atLight = !basis.directional && glm::length(points[i] - basis.light) < 1e-4 * basis.distance;  // φ undefined there
     if (!atLight) {
       EXPECT_NEAR(r.coords[i].z, c.phi, 1e-4) << what << " phi of point " << i;
     }
     const double margin = 1e-3;
     if (onAxis || atLight || boundaryDistance(c.theta, 2 * pi, size.nTheta) < margin ||
-        boundaryDistance(c.alpha, pi, size.nAlpha) < margin || boundaryDistance(c.phi, pi, size.nPhi) < margin)
+        boundaryDistance(c.alpha, pi, size.nAlpha) < margin || boundaryDistance(c.phi, basis.phiRange, size.nPhi) < margin)
       continue;
     ++compared;
     EXPECT_EQ(r.cells[i].x, vsv::thetaRow(c.theta, size.nTheta)) << what << " row of point " << i;
     EXPECT_EQ(r.cells[i].y, vsv::alphaColumn(c.alpha, pi, size.nAlpha)) << what << " column of point " << i;
-    EXPECT_EQ(r.cells[i].z, vsv::phiBin(c.phi, pi, size.nPhi)) << what << " bin of point " << i;
+    EXPECT_EQ(r.cells[i].z, vsv::phiBin(c.phi, basis.phiRange, size.nPhi)) << what << " bin of point " << i;
   }
   EXPECT_GT(compared, 1500) << what;
 }
@@ -138,6 +139,9 @@ TEST_F(VsvTest, EpipolarTransformMatchesCpu) {
   checkTransform(vsv::makeBasis({1, 1, 1}, {1, 1, 1}, {0, 0, -1}, 1e-3), "light at the eye");
   checkTransform(vsv::makeBasis({0, 0, 0}, {1e-7, 0, 0}, {0, 0, -1}, 1e-3), "light near the eye");
   checkTransform(vsv::makeBasis({0, 0, 0}, {0, 50, 0}, {0, 0, -1}, 1e-3), "light along +y");
+  // Directional: φ is the distance from the axis (points reach ~10.4 from it; beyond 12 none).
+  checkTransform(vsv::makeDirectionalBasis({0, 2, 8}, {0.3, -1, -0.2}, 12.0), "directional");
+  checkTransform(vsv::makeDirectionalBasis({1, 1, 1}, {0, 0, 1}, 12.0), "directional along +z");
 }
 
 // ---- images against raymarch
@@ -278,6 +282,81 @@ TEST_F(VsvTest, HardCasesStayFiniteAndBounded) {
   // and bounded (the grid keeps its light the near distance away).
   checkHardCase(kCameraAtLight, R"({"type": "point", "position": [0, 0, 0], "color": [1, 1, 1], "intensity": 300})",
                 "light at the eye", 0.0);
+}
+
+// ---- directional lights: φ becomes the distance from the axis through the eye
+
+TEST_F(VsvTest, DirectionalLightsMatchRaymarchIncludingParallelToTheView) {
+  std::string geometry = std::string(kWall) + R"(, {"name": "ball", "generator": "sphere", "params": {"center": [0.5, -1, -4], "radius": 1}}, )" +
+                         R"({"name": "box", "generator": "box", "params": {"center": [-1.5, -2, -7], "size": [1, 2, 1]}})";
+  const char* camera = R"({"position": [0, 0, 2], "target": [0, -1, -6], "fov_y_deg": 60, "near": 0.05, "far": 40})";
+  // Oblique, then travelling along the view direction (anti-epipole at the image centre), then
+  // towards the camera (epipole at the image centre).
+  const char* lights[][2] = {{"[0.4, -1, -0.3]", "oblique"}, {"[0, -0.124, -0.992]", "parallel to the view"},
+                             {"[0, 0.124, 0.992]", "anti-parallel to the view"}};
+  const int W = 96, H = 72;
+  for (auto& [direction, what] : lights) {
+    std::string light = std::string(R"({"type": "directional", "direction": )") + direction + R"(, "color": [1, 1, 1], "intensity": 2})";
+    Scene scene = sceneFromJson(sceneJson(geometry, camera, light));
+    MethodRun ref = mustRender(scene, "raymarch:steps=1024:jitter=0:sm=1024", W, H);
+    EXPECT_EQ(renderScene(scene, "vsv:vox=geom", 8, 8).status, RunStatus::Unsupported);
+    for (const char* vox : {"sm"}) {  // vox=geom: Unsupported under directional lights
+      MethodRun run = mustRender(scene, std::string("vsv:sm=1024:surface=1:vox=") + vox, W, H);
+      Comparison c = compareLs(run.inscatter, ref.inscatter);
+      double relmse = compareImages(run.inscatter, ref.inscatter).relmse;
+      double finalRelmse = compareImages(run.final, ref.final).relmse;
+      std::printf("directional %s, vox=%s: L_s relative RMSE %.4f, relMSE %.2e, pixels off by >10%% %.4f; final relMSE %.2e\n",
+                  what, vox, c.relRmse, relmse, c.badFraction, finalRelmse);
+      EXPECT_LT(c.relRmse, 0.02) << what << " vox=" << vox;
+      EXPECT_LT(relmse, 2e-4) << what << " vox=" << vox;
+      // Surface shadows near the anti-epipole (light along the view) are the weakest: 1.8e-2.
+      EXPECT_LT(finalRelmse, 0.03) << what << " vox=" << vox;
+    }
+  }
+}
+
+// ---- surface shadows from the VSV (Fig. 7)
+
+// Pixel (row 0 at the top) where a world point appears.
+glm::ivec2 pixelOf(const Scene& scene, glm::vec3 world, int w, int h) {
+  glm::vec4 clip = cameraProjection(scene.camera, float(w) / float(h)) * cameraView(scene.camera) * glm::vec4(world, 1.0f);
+  glm::vec2 ndc = glm::vec2(clip) / clip.w;
+  return {int((ndc.x * 0.5f + 0.5f) * w), h - 1 - int((ndc.y * 0.5f + 0.5f) * h)};
+}
+
+// The surface term of the final image at a pixel: L - L_s = L_surf exp(-σt d).
+float surfaceLuminance(const MethodRun& run, glm::ivec2 p) {
+  return luminance(run.final.at(p.x, p.y)) - luminance(run.inscatter.at(p.x, p.y));
+}
+
+// With surface=1 the final image (VSV surface shadows) stays close to the reference's final image
+// (shared shadow-map surface shading), and the floor under the ball is dark.
+void checkSurfaceShadows(const char* light, const char* what, double bound) {
+  std::string geometry = std::string(kWall) + R"(, {"name": "ball", "generator": "sphere", "params": {"center": [0, -1, -4], "radius": 1}})";
+  Scene scene = sceneFromJson(sceneJson(geometry, R"({"position": [0, 2, 6], "target": [0, -2, -4], "fov_y_deg": 60, "near": 0.05, "far": 60})", light));
+  const int W = 96, H = 72;
+  MethodRun ref = mustRender(scene, "raymarch:steps=512:jitter=0:sm=1024", W, H);
+  MethodRun off = mustRender(scene, "vsv:sm=1024", W, H);
+  MethodRun on = mustRender(scene, "vsv:sm=1024:surface=1", W, H);
+  EXPECT_NE(std::find(on.passes.begin(), on.passes.end(), "Surface Shadows"), on.passes.end());
+  double eOn = compareImages(on.final, ref.final).relmse, eOff = compareImages(off.final, ref.final).relmse;
+  Comparison c = compareLs(on.final, off.final);
+  std::printf("%s: final relMSE vs reference: surface=1 %.5f, surface=0 %.5f; surface=1 vs 0: relative RMSE %.4f, "
+              "pixels off by >10%% of the mean %.4f\n", what, eOn, eOff, c.relRmse, c.badFraction);
+  EXPECT_LT(eOn, bound) << what;
+  EXPECT_LT(c.badFraction, 0.02) << what;
+  // Under the ball (the light is above it) against the open floor beside it.
+  glm::ivec2 shadowed = pixelOf(scene, {0, -3, -4}, W, H), open = pixelOf(scene, {3, -3, -4}, W, H);
+  float dark = surfaceLuminance(on, shadowed), lit = surfaceLuminance(on, open);
+  std::printf("%s: surface term in shadow %.4g, beside it %.4g\n", what, dark, lit);
+  EXPECT_GT(lit, 0.0f) << what;
+  EXPECT_LT(dark, 0.02f * lit) << what;
+}
+
+TEST_F(VsvTest, SurfaceShadowsMatchTheShadowMapAndDarkenTheShadow) {
+  checkSurfaceShadows(R"({"type": "point", "position": [0, 4, -4], "color": [1, 1, 1], "intensity": 300})", "point", 0.01);
+  checkSurfaceShadows(R"({"type": "spot", "position": [0, 4, -4], "target": [0, -3, -4], "color": [1, 1, 1], "intensity": 300, "spot_inner_deg": 40, "spot_outer_deg": 60})",
+                      "spot", 0.01);
 }
 
 }  // namespace
