@@ -288,15 +288,18 @@ void SharedPasses::renderGBuffer(PassTimer& timer) {
   glDisable(GL_DEPTH_TEST);
 }
 
-void SharedPasses::renderDirect(PassTimer& timer) {
-  auto scope = timer.scope("Direct Lighting");
-  Frame f = frame();
-  f.bindShared();
-  glBindFramebuffer(GL_FRAMEBUFFER, directFbo_.id());
+void SharedPasses::drawFullscreen(GLuint fbo, GLuint program) const {
+  frame().bindShared();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
-  glUseProgram(directProgram_.id());
+  glUseProgram(program);
   gl::drawFullscreenTriangle();
+}
+
+void SharedPasses::renderDirect(PassTimer& timer) {
+  auto scope = timer.scope("Direct Lighting");
+  drawFullscreen(directFbo_.id(), directProgram_.id());
 }
 
 void SharedPasses::clearInscatter() {
@@ -306,15 +309,9 @@ void SharedPasses::clearInscatter() {
 
 void SharedPasses::composite(PassTimer& timer) {
   auto scope = timer.scope("Composite");
-  Frame f = frame();
-  f.bindShared();
   glBindTextureUnit(bind::kDirect, direct_.id());
   glBindTextureUnit(bind::kInscatter, inscatter_.id());
-  glBindFramebuffer(GL_FRAMEBUFFER, finalFbo_.id());
-  glViewport(0, 0, width_, height_);
-  glDisable(GL_DEPTH_TEST);
-  glUseProgram(compositeProgram_.id());
-  gl::drawFullscreenTriangle();
+  drawFullscreen(finalFbo_.id(), compositeProgram_.id());
 }
 
 Image SharedPasses::readTexture(GLuint texture) const {

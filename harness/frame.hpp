@@ -113,6 +113,7 @@ class SharedPasses {
 
  private:
   void buildShadowMap(int size);
+  void drawFullscreen(GLuint fbo, GLuint program) const;  // shared bindings + one full-screen triangle
   Image readTexture(GLuint texture) const;
 
   const Scene& scene_;
