@@ -223,15 +223,29 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
         double d = hit.hit ? hit.t : farDist;
         dvec3 Ls(0.0);
         if (sigmaS > 0.0) {
-          double ds = d / N;
+          // Stratified samples, equiangular from point and spot lights (the weight r^2 cancels
+          // L_in's 1/r^2, so rays passing close to the light are integrated as well as the rest).
+          bool angular = scene.light.type != LightType::Directional;
+          dvec3 toLight = light.position - eye;
+          double delta = glm::dot(toLight, dir);
+          double D = std::max(glm::length(toLight - delta * dir), 1e-9 * std::max(d, 1.0));
+          double thetaA = std::atan2(-delta, D), thetaB = std::atan2(d - delta, D);
           double offset = (hash32(uint32_t(x) * 73856093u ^ uint32_t(y) * 19349663u ^ options.seed) >> 8) / 16777216.0;
           for (int i = 0; i < N; ++i) {
-            double s = (i + std::fmod(offset + i * 0.61803398875, 1.0)) * ds;
+            double u = (i + std::fmod(offset + i * 0.61803398875, 1.0)) / N;
+            double s, weight;
+            if (angular) {
+              s = std::clamp(delta + D * std::tan(thetaA + u * (thetaB - thetaA)), 0.0, d);
+              weight = (thetaB - thetaA) * (D * D + (s - delta) * (s - delta)) / (D * N);
+            } else {
+              s = u * d;
+              weight = d / N;
+            }
             dvec3 xs = eye + dir * s;
             if (!light.visible(tracer, xs)) continue;
-            Ls += std::exp(-sigmaT * s) * light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
+            Ls += weight * std::exp(-sigmaT * s) * light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
           }
-          Ls *= sigmaS * ds;
+          Ls *= sigmaS;
         }
         dvec3 surface(0.0);
         if (hit.hit) {

@@ -56,7 +56,7 @@ TEST_F(GroundTruthTest, ReferenceIsCloseToExactVisibility) {
     double lsRelmse, finalRelmse, lsSsim;
   };
   const int W = 64, H = 48;
-  for (Case c : {Case{"spheres", 1e-4, 1e-2, 0.995}, Case{"fence", 2e-3, 4e-2, 0.98}}) {
+  for (Case c : {Case{"spheres", 1e-5, 1e-2, 0.995}, Case{"fence", 2e-3, 4e-2, 0.98}}) {
     const char* name = c.scene;
     Scene scene = loadScene(name);
     GroundTruthOptions options;
@@ -64,7 +64,7 @@ TEST_F(GroundTruthTest, ReferenceIsCloseToExactVisibility) {
     options.height = H;
     options.steps = 2048;
     GroundTruth gt = renderGroundTruth(scene, options);
-    MethodRun ref = renderScene(scene, "raymarch:steps=4096:sm=2048", W, H);
+    MethodRun ref = renderScene(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", W, H);
     ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
     ErrorMetrics ls = compareImages(ref.inscatter, gt.inscatter);
     ErrorMetrics final = compareImages(ref.final, gt.final);

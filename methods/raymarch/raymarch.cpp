@@ -19,18 +19,21 @@ Capabilities RaymarchMethod::capabilities() const {
 
 std::vector<ParamSpec> RaymarchMethod::params() const {
   return {ParamSpec::integer("steps", 64, 1, 16384, "samples along each camera ray"),
-          ParamSpec::flag("jitter", true, "stratified jitter inside each step (deterministic per pixel and seed)")};
+          ParamSpec::flag("jitter", true, "stratified jitter inside each step (deterministic per pixel and seed)"),
+          ParamSpec::choice("sampling", "uniform", {"uniform", "equiangular"},
+                            "uniform steps in distance, or equiangular steps seen from a point/spot light")};
 }
 
 std::vector<std::string> RaymarchMethod::qualityLadder() const {
   return {"steps=8", "steps=16", "steps=32", "steps=64", "steps=128", "steps=256"};
 }
 
-std::string RaymarchMethod::referenceParams() const { return "steps=4096:jitter=1"; }
+std::string RaymarchMethod::referenceParams() const { return "steps=4096:jitter=1:sampling=equiangular"; }
 
 void RaymarchMethod::setup(const SetupContext& context, const ParamValues& params) {
   steps_ = params.getInt("steps");
   jitter_ = params.getBool("jitter");
+  equiangular_ = params.getString("sampling") == "equiangular";
   width_ = context.width;
   height_ = context.height;
   program_ = gl::buildFullscreen("methods/raymarch/shaders/raymarch.frag", sceneDefines(context.effects));
@@ -46,6 +49,7 @@ void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
   glUseProgram(program_.id());
   glUniform1i(0, steps_);
   glUniform1i(1, jitter_ ? 1 : 0);
+  glUniform1i(2, equiangular_ ? 1 : 0);
   gl::drawFullscreenTriangle();
 }
 

@@ -20,6 +20,7 @@ class RaymarchMethod : public Method {
   gl::Program program_;
   int steps_ = 0;
   bool jitter_ = true;
+  bool equiangular_ = false;
   int width_ = 0, height_ = 0;
 };
 

@@ -1,11 +1,15 @@
 #version 450 core
 // Brute-force ray marching of L_s = int_0^d sigma_s exp(-sigma_t s) V(x_s) rho(cos theta) L_in(x_s) ds
-// with stratified samples: step i samples s = (i + xi_i) / N * d. Jittered, xi_i = fract(h + i * phi)
-// with h a hash of (pixel, seed) and phi the golden ratio (one hash per pixel, not per step);
-// otherwise xi_i = 0.5 (midpoint rule).
+// with N stratified samples u_i = (i + xi_i) / N. Jittered, xi_i = fract(h + i * phi) with h a hash
+// of (pixel, seed) and phi the golden ratio (one hash per pixel, not per step); otherwise 0.5.
+//  - uniform:     s_i = u_i d, weight d / N.
+//  - equiangular: (point and spot lights) s_i spaced evenly in the angle seen from the light,
+//    s = delta + D tan(theta), weight (theta_b - theta_a) r^2 / (D N): it cancels the 1/r^2 of
+//    L_in, so rays passing close to the light converge as fast as the others.
 #include "common.glsl"
 layout(location = 0) uniform int steps;
 layout(location = 1) uniform int jitter;
+layout(location = 2) uniform int equiangular;
 layout(location = 0) out vec4 outInscatter;
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -13,18 +17,37 @@ void main() {
   float dist;
   cameraRay(pixel, dir, dist);
   vec3 eye = u.eye.xyz;
-  float ds = dist / float(max(steps, 1));
-  vec3 sum = vec3(0.0);
+  int n = max(steps, 1);
   float pixelOffset = jitter != 0 ? random01(uvec4(uint(pixel.x), uint(pixel.y), uint(u.viewport.w), 0u)) : 0.5;
   const float goldenRatio = 0.61803398875;
-  for (int i = 0; i < steps; ++i) {
-    float xi = jitter != 0 ? fract(pixelOffset + float(i) * goldenRatio) : 0.5;
-    float s = (float(i) + xi) * ds;
+
+  bool angular = equiangular != 0 && lightType() != LIGHT_DIRECTIONAL;
+  float delta = 0.0, D = 1.0, thetaA = 0.0, thetaB = 0.0;
+  if (angular) {
+    vec3 toLight = u.lightPos.xyz - eye;
+    delta = dot(toLight, dir);                                   // ray parameter closest to the light
+    D = max(length(toLight - delta * dir), 1e-6 * max(dist, 1.0));  // light's distance from the ray
+    thetaA = atan(-delta, D);
+    thetaB = atan(dist - delta, D);
+  }
+  vec3 sum = vec3(0.0);
+  for (int i = 0; i < n; ++i) {
+    float ui = (float(i) + (jitter != 0 ? fract(pixelOffset + float(i) * goldenRatio) : 0.5)) / float(n);
+    float s, weight;
+    if (angular) {
+      float theta = mix(thetaA, thetaB, ui);
+      s = clamp(delta + D * tan(theta), 0.0, dist);
+      float r2 = D * D + (s - delta) * (s - delta);
+      weight = (thetaB - thetaA) * r2 / (D * float(n));
+    } else {
+      s = ui * dist;
+      weight = dist / float(n);
+    }
     vec3 x = eye + dir * s;
     float visibility = shadowVisibility(x);
     if (visibility <= 0.0) continue;
     float cosTheta = dot(lightTravelDir(x), -dir);
-    sum += exp(-sigmaT() * s) * visibility * phase(cosTheta) * lightIncident(x);
+    sum += weight * exp(-sigmaT() * s) * visibility * phase(cosTheta) * lightIncident(x);
   }
-  outInscatter = vec4(sum * sigmaS() * ds, 1.0);
+  outInscatter = vec4(sum * sigmaS(), 1.0);
 }
