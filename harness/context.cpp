@@ -9,7 +9,25 @@
 
 #include "gl.hpp"
 
+#ifdef VS_SANITIZE
+#include <dlfcn.h>
+#include <link.h>
+#endif
+
 namespace vs {
+
+#ifdef VS_SANITIZE
+// Sanitizer builds only: keep every module loaded now (the GL driver among them) mapped until exit,
+// so LeakSanitizer can name the driver's own allocations instead of addresses in unloaded code.
+static void pinLoadedModules() {
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void*) -> int {
+        if (info->dlpi_name && info->dlpi_name[0]) dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        return 0;
+      },
+      nullptr);
+}
+#endif
 
 static std::string eglErrorName(EGLint e) {
   char buf[32];
@@ -91,6 +109,9 @@ GlContext::GlContext(bool debug) {
   const char* eglVendor = eglQueryString(display, EGL_VENDOR);
   const char* eglVersion = eglQueryString(display, EGL_VERSION);
   info_.eglVendor = eglVendor ? eglVendor : "unknown";
+#ifdef VS_SANITIZE
+  pinLoadedModules();
+#endif
   info_.eglVersion = eglVersion ? eglVersion : "unknown";
 }
 
