@@ -85,7 +85,12 @@ int main(int argc, char** argv) {
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   std::string command;
-  for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(i ? argv[i] : "vshadow_stress");
+  // The command as given, with the report named by its file name only (no machine paths).
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = i ? argv[i] : "vshadow_stress";
+    if (i > 0 && std::string(argv[i - 1]) == "--report") arg = arg.substr(arg.rfind('/') + 1);
+    command += (i ? " " : "") + arg;
+  }
   md << "# Stability report\n\nWritten by `" << command << "` on " << date << " at revision " << buildGitSha()
      << ".  \nRenderer: "
      << contextInfo().glRenderer << " (" << contextInfo().glVersion << ").\n\n";
