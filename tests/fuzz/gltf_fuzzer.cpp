@@ -5,13 +5,15 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <glm/glm.hpp>
 #include <string>
 
 #include "scenes/gltf_loader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/vshadow-gltf-fuzz-" + std::to_string(::getpid()) + ".gltf";
+  static const std::string path =
+      (std::filesystem::temp_directory_path() / ("vshadow-gltf-fuzz-" + std::to_string(::getpid()) + ".gltf")).string();
   FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;
   std::fwrite(data, 1, size, f);
