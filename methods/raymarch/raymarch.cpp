@@ -36,7 +36,9 @@ void RaymarchMethod::setup(const SetupContext& context, const ParamValues& param
   equiangular_ = params.getString("sampling") == "equiangular";
   width_ = context.width;
   height_ = context.height;
-  program_ = gl::buildFullscreen("methods/raymarch/shaders/raymarch.frag", sceneDefines(context.effects));
+  program_ = gl::buildFullscreen("methods/raymarch/shaders/raymarch.frag",
+                                 sceneDefines(context.effects) + "#define EQUIANGULAR " +
+                                     (equiangular_ ? "1" : "0") + "\n");
 }
 
 void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
@@ -49,7 +51,6 @@ void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
   glUseProgram(program_.id());
   glUniform1i(0, steps_);
   glUniform1i(1, jitter_ ? 1 : 0);
-  glUniform1i(2, equiangular_ ? 1 : 0);
   gl::drawFullscreenTriangle();
 }
 

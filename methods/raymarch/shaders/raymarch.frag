@@ -9,7 +9,8 @@
 #include "common.glsl"
 layout(location = 0) uniform int steps;
 layout(location = 1) uniform int jitter;
-layout(location = 2) uniform int equiangular;
+// EQUIANGULAR is defined by the method at build time (0 or 1): a uniform would cost a branch per
+// step, which llvmpipe does not hoist.
 layout(location = 0) out vec4 outInscatter;
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -21,7 +22,7 @@ void main() {
   float pixelOffset = jitter != 0 ? random01(uvec4(uint(pixel.x), uint(pixel.y), uint(u.viewport.w), 0u)) : 0.5;
   const float goldenRatio = 0.61803398875;
 
-  bool angular = equiangular != 0 && lightType() != LIGHT_DIRECTIONAL;
+  const bool angular = EQUIANGULAR != 0 && lightType() != LIGHT_DIRECTIONAL;
   float delta = 0.0, D = 1.0, thetaA = 0.0, thetaB = 0.0;
   if (angular) {
     vec3 toLight = u.lightPos.xyz - eye;
