@@ -86,11 +86,11 @@ struct Job {
 
 }  // namespace
 
-int listCommand() {
+int listCommand(const MethodRegistry& registry) {
   std::printf("Scenes (built in; or pass a path to a scene .json):\n");
   for (const auto& s : builtinScenes()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
   std::printf("\nMethods (spec: name:key=value:key=value):\n");
-  for (const auto& info : registeredMethods()) {
+  for (const auto& info : registry) {
     auto m = info.create();
     std::printf("  %s  %s\n", m->name().c_str(), m->description().c_str());
     std::printf("    supports: %s\n", m->capabilities().describe().c_str());
@@ -104,77 +104,78 @@ int listCommand() {
   return 0;
 }
 
-static int runChecked(const RunRequest& req, bool shootout) {
+namespace {
+
+// Everything a run needs to know before it writes anything: the checked request, the scene, the
+// jobs with their resolved parameters. Built by planRun, which throws UsageError/SceneError.
+struct RunPlan {
   int width = 0, height = 0;
-  parseSize(req.size, width, height);
-  Scene scene = loadScene(req.scene);
+  Scene scene;
+  Effects effects;
+  std::vector<Job> jobs;
+  bool exactReference = false;  // --reference exact
+  bool haveExact = false;       // the ground truth is rendered (--exact or --reference exact)
+  bool haveReference = true;
+};
 
-  // Method specs are checked before a context exists where possible (unknown names and keys).
-  for (const auto& spec : req.methods) {
-    if (shootout) {
-      createMethod(spec);
-    } else {
-      parseMethodSpec(spec);
-      createMethod(parseMethodSpec(spec).method);
-    }
-  }
+// The images rows are measured against.
+struct Baselines {
+  Reference reference;  // valid when plan.haveReference
+  GroundTruth exact;    // valid when plan.haveExact
+  std::string referenceLabel;
+  float exposure = 1.0f;
+};
 
-  bool exactReference = req.referenceSpec == "exact";
-  if ((req.exact || exactReference) && !groundTruthUnsupported(scene).empty())
-    throw UsageError(groundTruthUnsupported(scene));
-  if (!exactReference && !req.referenceSpec.empty()) {
-    MethodSpec spec = parseMethodSpec(req.referenceSpec);
-    createMethod(spec.method);
-  }
+// A finished job with its error metrics.
+struct Measured {
+  MethodRun run;
+  ErrorMetrics finalErr, lsErr, exactErr, exactLsErr;
+  bool measured = false, exactMeasured = false;
+};
 
-  GlContext context(true);
-  gl::installDebugOutput(req.strictGl);
-  gl::Limits limits = gl::queryLimits();
+// Checks that need no GL context: size, scene, method names, the reference spec.
+RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegistry& registry) {
+  RunPlan plan;
+  parseSize(req.size, plan.width, plan.height);
+  plan.scene = loadScene(req.scene);
+  plan.effects = deriveEffects(plan.scene);
+  for (const auto& spec : req.methods) createMethod(registry, shootout ? spec : parseMethodSpec(spec).method);
+  plan.exactReference = req.referenceSpec == "exact";
+  plan.haveExact = req.exact || plan.exactReference;
+  plan.haveReference = !req.noReference;
+  if (plan.haveExact && !groundTruthUnsupported(plan.scene).empty()) throw UsageError(groundTruthUnsupported(plan.scene));
+  if (!plan.exactReference && !req.referenceSpec.empty())
+    createMethod(registry, parseMethodSpec(req.referenceSpec).method);
+  return plan;
+}
+
+// Checks against the GL limits, then the jobs: every rung of every ladder (shootout) or the specs.
+void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodRegistry& registry,
+              const gl::Limits& limits) {
   int maxSize = std::min({limits.maxTextureSize, limits.maxRenderbufferSize, limits.maxViewportW, limits.maxViewportH});
-  if (width > maxSize || height > maxSize)
+  if (plan.width > maxSize || plan.height > maxSize)
     throw UsageError("--size " + req.size + " exceeds this GL implementation's limit of " + std::to_string(maxSize) +
                      " pixels per side");
-
-  std::vector<Job> jobs;
+  std::vector<std::string> specs;
   if (shootout) {
-    for (const auto& info : registeredMethods()) {
+    for (const auto& info : registry) {
       if (!req.methods.empty() && std::find(req.methods.begin(), req.methods.end(), info.name) == req.methods.end())
         continue;
-      auto m = info.create();
-      for (const auto& rung : m->qualityLadder()) {
-        std::string spec = info.name + (rung.empty() ? "" : ":" + rung);
-        ResolvedSpec r = resolveSpec(spec, limits);
-        jobs.push_back({info.name + " " + r.params.canonical(), r.method, r.params});
-      }
+      for (const auto& rung : info.create()->qualityLadder()) specs.push_back(info.name + (rung.empty() ? "" : ":" + rung));
     }
   } else {
-    for (const auto& spec : req.methods) {
-      ResolvedSpec r = resolveSpec(spec, limits);
-      jobs.push_back({r.method + " " + r.params.canonical(), r.method, r.params});
-    }
+    specs = req.methods;
   }
-
-  // Everything the user gave is valid: from here on results are written.
-  prepareOutputDir(req.out);
-  CsvTable runs(runsCsvHeader(), 3), passes(passesCsvHeader(), 4);
-  std::string runsPath = req.out + "/runs.csv", passesPath = req.out + "/passes.csv", metaPath = req.out + "/meta.json";
-  runs.loadExisting(runsPath);
-  passes.loadExisting(passesPath);
-
-  const ContextInfo& info = context.info();
-  TimerCalibration calibration;
-  if (req.timer == "auto") {
-    calibration = calibrateTimer();
-  } else {
-    calibration.chosen = req.timer == "gpu" ? TimerStrategy::GpuTimestamp : TimerStrategy::WallClock;
-    calibration.reason = "chosen with --timer";
+  for (const auto& spec : specs) {
+    ResolvedSpec r = resolveSpec(spec, limits, registry);
+    plan.jobs.push_back({r.method + " " + r.params.canonical(), r.method, r.params});
   }
-  const char* timerName = timerStrategyName(calibration.chosen);
+}
+
+json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& info, const TimerCalibration& calibration,
+              const std::string& date) {
   const char* lpThreads = std::getenv("LP_NUM_THREADS");
-  std::string date = isoDateUtc();
-  Effects effects = deriveEffects(scene);
-
-  json meta = {
+  return {
       {"command_line", req.commandLine},
       {"git_sha", buildGitSha()},
       {"date", date},
@@ -182,13 +183,13 @@ static int runChecked(const RunRequest& req, bool shootout) {
       {"egl", {{"vendor", info.eglVendor}, {"version", info.eglVersion}, {"platform", info.platform}}},
       {"cpu", {{"model", cpuModel()}, {"hardware_threads", std::thread::hardware_concurrency()}}},
       {"lp_num_threads", lpThreads ? json(lpThreads) : json(nullptr)},
-      {"width", width},
-      {"height", height},
+      {"width", plan.width},
+      {"height", plan.height},
       {"frames", req.frames},
       {"warmup", req.warmup},
       {"seed", req.seed},
       {"timer",
-       {{"strategy", timerName},
+       {{"strategy", timerStrategyName(calibration.chosen)},
         {"reason", calibration.reason},
         {"calibration_ms",
          {{"draw_wall", calibration.drawWallMs},
@@ -198,195 +199,255 @@ static int runChecked(const RunRequest& req, bool shootout) {
           {"compute_timestamp", calibration.computeTimestampMs},
           {"compute_time_elapsed", calibration.computeElapsedMs}}}}},
       {"scene",
-       {{"name", scene.name},
-        {"source", scene.source},
-        {"hash", scene.contentHash},
-        {"triangles", scene.triangleCount()},
-        {"effects", effects.describe()}}},
+       {{"name", plan.scene.name},
+        {"source", plan.scene.source},
+        {"hash", plan.scene.contentHash},
+        {"triangles", plan.scene.triangleCount()},
+        {"volumes", plan.scene.volumes.size()},
+        {"effects", plan.effects.describe()}}},
       {"metrics",
        {{"relmse_epsilon", kRelMseEpsilon},
         {"psnr_peak", kPsnrPeak},
         {"ssim", "Wang et al. 2004 on Rec.709 luminance, 11x11 Gaussian sigma 1.5, K1 0.01, K2 0.03, L = psnr_peak"},
         {"unstable_mdape_pct", 5.0}}},
       {"status", "running"},
-      {"jobs", jobs.size()},
+      {"jobs", plan.jobs.size()},
   };
-  writeFileAtomic(metaPath, meta.dump(2) + "\n");
+}
+
+// The result folder: runs.csv, passes.csv, meta.json and images, all written atomically.
+class ResultFiles {
+ public:
+  ResultFiles(const std::string& dir, const std::string& sceneName, bool images)
+      : runs_(runsColumns(), kRunsKeyColumns), passes_(passesColumns(), kPassesKeyColumns), images_(images) {
+    prepareOutputDir(dir);
+    runsPath_ = dir + "/runs.csv";
+    passesPath_ = dir + "/passes.csv";
+    metaPath_ = dir + "/meta.json";
+    runs_.loadExisting(runsPath_);
+    passes_.loadExisting(passesPath_);
+    imageDir_ = fs::path(dir) / "images" / sanitize(sceneName);
+    if (images_) fs::create_directories(imageDir_);
+  }
+  void writeMeta(const json& meta) const { writeFileAtomic(metaPath_, meta.dump(2) + "\n"); }
+  void writeReferenceImages(const Reference& ref, float exposure) const {
+    if (!images_) return;
+    writeExr((imageDir_ / "reference.final.exr").string(), ref.final);
+    writeExr((imageDir_ / "reference.ls.exr").string(), ref.inscatter);
+    writePngTonemapped((imageDir_ / "reference.png").string(), ref.final, exposure);
+  }
+  void writeImages(const MethodRun& r, const Baselines& base, bool haveReference) const {
+    if (!images_ || r.status != RunStatus::Success) return;
+    std::string stem = (imageDir_ / (sanitize(r.method) + "_" + sanitize(r.params))).string();
+    writeExr(stem + ".final.exr", r.final);
+    writeExr(stem + ".ls.exr", r.inscatter);
+    writePngTonemapped(stem + ".png", r.final, haveReference ? base.exposure : autoExposure(r.final));
+    if (haveReference)
+      writePng8(stem + ".error.png", r.final.width, r.final.height,
+                falseColourError(r.final, base.reference.final, 0.1f / std::max(base.exposure, 1e-20f)));
+  }
+  void addRows(const ResultRow& run, const MethodRun& r, const std::string& sceneName, const std::string& timer,
+               const std::string& renderer) {
+    runs_.upsert(run);
+    passes_.removeWhere({{"scene", sceneName}, {"method", r.method}, {"params", r.params}});
+    auto addPass = [&](const std::string& pass, const TimingStats& s) {
+      ResultRow row(passesColumns());
+      row.set("scene", sceneName).set("method", r.method).set("params", r.params).set("pass", pass);
+      row.set("median_ms", s.medianMs).set("min_ms", s.minMs).set("max_ms", s.maxMs).set("mdape_pct", s.mdapePct);
+      row.set("frames", s.samples).set("timer", timer).set("renderer", renderer);
+      passes_.upsert(row);
+    };
+    for (const auto& p : r.passes) addPass(p, r.passStats.at(p));
+    if (r.status == RunStatus::Success) addPass(PassTimer::kFrame, r.frame);
+    runs_.save(runsPath_);
+    passes_.save(passesPath_);
+  }
+  std::string summary() const { return "results: " + runsPath_ + "  " + passesPath_ + "  " + metaPath_; }
+
+ private:
+  CsvTable runs_, passes_;
+  bool images_;
+  std::string runsPath_, passesPath_, metaPath_;
+  fs::path imageDir_;
+};
+
+// The reference (cached ray march or the ground truth) and, with --exact, the ground truth.
+Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl::Limits& limits,
+                           const MethodRegistry& registry, const RunOptions& options, Progress& progress, int& item,
+                           json& meta) {
+  Baselines base;
+  if (plan.haveExact) {
+    progress.item(item, "exact-visibility ground truth");
+    GroundTruthOptions gt;
+    gt.width = plan.width;
+    gt.height = plan.height;
+    gt.steps = req.exactSteps;
+    gt.seed = options.seed;
+    base.exact = renderGroundTruth(plan.scene, gt, [&](int done, int total) { progress.frames(done, total); });
+    progress.finished("computed in " + num(base.exact.computeMs / 1000.0) + " s (" + std::to_string(req.exactSteps) +
+                      " steps per ray, Embree visibility)");
+    meta["exact"] = {{"steps", req.exactSteps}, {"compute_ms", base.exact.computeMs}};
+    if (!plan.exactReference) ++item;
+  }
+  if (!plan.haveReference) return base;
+  Reference& ref = base.reference;
+  if (plan.exactReference) {
+    ref.method = "exact";
+    ref.params = "steps=" + std::to_string(req.exactSteps);
+    ref.computeMs = base.exact.computeMs;
+    ref.inscatter = base.exact.inscatter;
+    ref.final = base.exact.final;
+    meta["reference"] = {{"method", ref.method}, {"params", ref.params}, {"compute_ms", ref.computeMs}};
+  } else {
+    int sm = 0;
+    for (const auto& j : plan.jobs) sm = std::max(sm, j.params.getInt("sm"));
+    progress.item(item, "reference");
+    ref = obtainReference(plan.scene, limits, options, std::max(sm, 64),
+                          req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir, registry, req.referenceSpec);
+    progress.finished(ref.method + " " + ref.params + " (" +
+                      (ref.fromCache ? std::string("from cache") : "computed in " + num(ref.computeMs / 1000.0) + " s") +
+                      ")");
+    meta["reference"] = {{"method", ref.method},       {"params", ref.params},
+                         {"cache_key", ref.cacheKey},  {"cache_path", ref.cachePath},
+                         {"from_cache", ref.fromCache}, {"compute_ms", ref.computeMs}};
+  }
+  ++item;
+  base.referenceLabel = ref.method + ":" + ref.params;
+  base.exposure = autoExposure(ref.final);
+  return base;
+}
+
+Measured measureJob(Runner& runner, const Job& job, const MethodRegistry& registry, const RunPlan& plan,
+                    const Baselines& base, Progress& progress) {
+  Measured m;
+  auto method = createMethod(registry, job.method);
+  m.run = runner.run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
+  bool ok = m.run.status == RunStatus::Success;
+  m.measured = plan.haveReference && ok;
+  m.exactMeasured = plan.haveExact && ok;
+  if (m.measured) {
+    m.finalErr = compareImages(m.run.final, base.reference.final);
+    m.lsErr = compareImages(m.run.inscatter, base.reference.inscatter);
+  }
+  if (m.exactMeasured) {
+    m.exactErr = compareImages(m.run.final, base.exact.final);
+    m.exactLsErr = compareImages(m.run.inscatter, base.exact.inscatter);
+  }
+  return m;
+}
+
+ResultRow runRow(const Measured& m, const RunPlan& plan, const RunRequest& req, const Baselines& base,
+                 const std::string& timer, const std::string& renderer, const std::string& date) {
+  const MethodRun& r = m.run;
+  auto join = [](const std::vector<std::string>& items) {
+    std::string s;
+    for (const auto& i : items) s += (s.empty() ? "" : ";") + i;
+    return s;
+  };
+  std::string statsText;
+  for (const auto& [k, v] : r.stats) statsText += (statsText.empty() ? "" : ";") + k + "=" + num(v);
+  ResultRow row(runsColumns());
+  row.set("scene", plan.scene.name).set("method", r.method).set("params", r.params);
+  row.set("status", runStatusName(r.status)).set("reason", r.reason).set("effects", plan.effects.describe());
+  row.set("passes", join(r.passes)).set("approximations", join(r.approximations));
+  row.set("nonfinite_pixels", r.nonFinitePixels).set("method_stats", statsText);
+  if (r.status == RunStatus::Success) {
+    row.set("setup_ms", r.setupMs);
+    row.set("frame_median_ms", r.frame.medianMs).set("frame_min_ms", r.frame.minMs).set("frame_max_ms", r.frame.maxMs);
+    row.set("frame_mdape_pct", r.frame.mdapePct).set("unstable", r.frame.mdapePct > 5.0 ? "1" : "0");
+  }
+  if (m.measured) {
+    row.set("rmse", m.finalErr.rmse).set("relmse", m.finalErr.relmse).set("psnr", m.finalErr.psnr);
+    row.set("ssim", m.finalErr.ssim).set("max_abs", m.finalErr.maxAbs);
+    row.set("max_abs_x", m.finalErr.maxX).set("max_abs_y", m.finalErr.maxY);
+    row.set("ls_rmse", m.lsErr.rmse).set("ls_relmse", m.lsErr.relmse).set("ls_psnr", m.lsErr.psnr);
+    row.set("ls_ssim", m.lsErr.ssim).set("ls_max_abs", m.lsErr.maxAbs);
+  }
+  if (m.exactMeasured) {
+    row.set("exact_rmse", m.exactErr.rmse).set("exact_relmse", m.exactErr.relmse).set("exact_psnr", m.exactErr.psnr);
+    row.set("exact_ssim", m.exactErr.ssim).set("exact_ls_rmse", m.exactLsErr.rmse);
+    row.set("exact_ls_relmse", m.exactLsErr.relmse);
+  }
+  row.set("width", plan.width).set("height", plan.height).set("shadow_map", r.shadowMapSize).set("frames", req.frames);
+  row.set("reference", base.referenceLabel).set("timer", timer).set("renderer", renderer).set("date", date);
+  return row;
+}
+
+std::string jobSummary(const Measured& m) {
+  const MethodRun& r = m.run;
+  if (r.status != RunStatus::Success) return std::string(runStatusName(r.status)) + ": " + r.reason;
+  std::string s = num(r.frame.medianMs) + " ms/frame";
+  if (m.measured) s += ", rmse " + num(m.finalErr.rmse) + ", psnr " + num(m.finalErr.psnr) + " dB";
+  if (r.frame.mdapePct > 5.0) s += " (unstable timing)";
+  return s;
+}
+
+}  // namespace
+
+static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry& registry) {
+  RunPlan plan = planBeforeContext(req, shootout, registry);
+  GlContext context(true);
+  gl::installDebugOutput(req.strictGl);
+  gl::Limits limits = gl::queryLimits();
+  planJobs(plan, req, shootout, registry, limits);
+
+  // Everything the user gave is valid: from here on results are written.
+  ResultFiles files(req.out, plan.scene.name, !req.noImages);
+  const ContextInfo& info = context.info();
+  TimerCalibration calibration;
+  if (req.timer == "auto") {
+    calibration = calibrateTimer();
+  } else {
+    calibration.chosen = req.timer == "gpu" ? TimerStrategy::GpuTimestamp : TimerStrategy::WallClock;
+    calibration.reason = "chosen with --timer";
+  }
+  const std::string timer = timerStrategyName(calibration.chosen);
+  const std::string date = isoDateUtc();
+  json meta = metaJson(req, plan, info, calibration, date);
+  files.writeMeta(meta);
 
   RunOptions options;
-  options.width = width;
-  options.height = height;
+  options.width = plan.width;
+  options.height = plan.height;
   options.frames = req.frames;
   options.warmup = req.warmup;
   options.seed = uint32_t(req.seed);
   options.timer = calibration.chosen;
 
-  bool haveExact = req.exact || exactReference;
-  Progress progress(int(jobs.size()) + (req.noReference ? 0 : 1) + (req.exact && !exactReference ? 1 : 0));
+  Progress progress(int(plan.jobs.size()) + (plan.haveReference ? 1 : 0) +
+                    (req.exact && !plan.exactReference ? 1 : 0));
   int item = 0;
-  Reference reference;
-  bool haveReference = !req.noReference;
-  GroundTruth exact;
-  if (haveExact) {
-    progress.item(item, "exact-visibility ground truth");
-    GroundTruthOptions gt;
-    gt.width = width;
-    gt.height = height;
-    gt.steps = req.exactSteps;
-    gt.seed = options.seed;
-    exact = renderGroundTruth(scene, gt, [&](int done, int total) { progress.frames(done, total); });
-    progress.finished("computed in " + num(exact.computeMs / 1000.0) + " s (" + std::to_string(req.exactSteps) +
-                      " steps per ray, Embree visibility)");
-    meta["exact"] = {{"steps", req.exactSteps}, {"compute_ms", exact.computeMs}};
-    if (!exactReference) ++item;
-  }
-  if (haveReference && exactReference) {
-    reference.method = "exact";
-    reference.params = "steps=" + std::to_string(req.exactSteps);
-    reference.computeMs = exact.computeMs;
-    reference.inscatter = exact.inscatter;
-    reference.final = exact.final;
-    ++item;
-    meta["reference"] = {{"method", reference.method}, {"params", reference.params}, {"compute_ms", exact.computeMs}};
-    writeFileAtomic(metaPath, meta.dump(2) + "\n");
-  } else if (haveReference) {
-    int sm = 0;
-    for (const auto& j : jobs) sm = std::max(sm, j.params.getInt("sm"));
-    progress.item(item, "reference");
-    reference = obtainReference(scene, limits, options, std::max(sm, 64),
-                                req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir, req.referenceSpec);
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%s %s (%s)", reference.method.c_str(), reference.params.c_str(),
-                  reference.fromCache ? "from cache" : ("computed in " + num(reference.computeMs / 1000.0) + " s").c_str());
-    progress.finished(buf);
-    ++item;
-    meta["reference"] = {{"method", reference.method},       {"params", reference.params},
-                         {"cache_key", reference.cacheKey},  {"cache_path", reference.cachePath},
-                         {"from_cache", reference.fromCache}, {"compute_ms", reference.computeMs}};
-    writeFileAtomic(metaPath, meta.dump(2) + "\n");
-  }
-  std::string referenceLabel = haveReference ? reference.method + ":" + reference.params : "";
-  fs::path imageDir = fs::path(req.out) / "images" / sanitize(scene.name);
-  float exposure = haveReference ? autoExposure(reference.final) : 1.0f;
-  if (!req.noImages) {
-    fs::create_directories(imageDir);
-    if (haveReference) {
-      writeExr((imageDir / "reference.final.exr").string(), reference.final);
-      writeExr((imageDir / "reference.ls.exr").string(), reference.inscatter);
-      writePngTonemapped((imageDir / "reference.png").string(), reference.final, exposure);
-    }
-  }
+  Baselines base = prepareBaselines(req, plan, limits, registry, options, progress, item, meta);
+  files.writeMeta(meta);
+  if (plan.haveReference) files.writeReferenceImages(base.reference, base.exposure);
 
-  Runner runner(scene, limits, options);
+  Runner runner(plan.scene, limits, options);
   int failures = 0;
   std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr", "ssim");
-  for (const Job& job : jobs) {
-    progress.item(item, job.label);
-    auto method = createMethod(job.method);
-    MethodRun r = runner.run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
-    ErrorMetrics finalErr, lsErr, exactErr, exactLsErr;
-    bool measured = haveReference && r.status == RunStatus::Success;
-    if (measured) {
-      finalErr = compareImages(r.final, reference.final);
-      lsErr = compareImages(r.inscatter, reference.inscatter);
-    }
-    bool exactMeasured = haveExact && r.status == RunStatus::Success;
-    if (exactMeasured) {
-      exactErr = compareImages(r.final, exact.final);
-      exactLsErr = compareImages(r.inscatter, exact.inscatter);
-    }
+  for (const Job& job : plan.jobs) {
+    progress.item(item++, job.label);
+    Measured m = measureJob(runner, job, registry, plan, base, progress);
+    const MethodRun& r = m.run;
     if (r.status == RunStatus::Failure) ++failures;
-    if (!req.noImages && r.status == RunStatus::Success) {
-      std::string stem = (imageDir / (sanitize(r.method) + "_" + sanitize(r.params))).string();
-      writeExr(stem + ".final.exr", r.final);
-      writeExr(stem + ".ls.exr", r.inscatter);
-      float e = haveReference ? exposure : autoExposure(r.final);
-      writePngTonemapped(stem + ".png", r.final, e);
-      if (haveReference)
-        writePng8(stem + ".error.png", r.final.width, r.final.height,
-                  falseColourError(r.final, reference.final, 0.1f / std::max(exposure, 1e-20f)));
-    }
-    std::string passList, statsText;
-    for (const auto& p : r.passes) passList += (passList.empty() ? "" : ";") + p;
-    for (const auto& [k, v] : r.stats) statsText += (statsText.empty() ? "" : ";") + k + "=" + num(v);
+    files.writeImages(r, base, plan.haveReference);
+    files.addRows(runRow(m, plan, req, base, timer, info.glRenderer, date), r, plan.scene.name, timer, info.glRenderer);
+    progress.finished(jobSummary(m));
     bool ok = r.status == RunStatus::Success;
-    auto metric = [&](double v) { return measured ? num(v) : std::string(); };
-    auto exactMetric = [&](double v) { return exactMeasured ? num(v) : std::string(); };
-    runs.upsert({scene.name,
-                 r.method,
-                 r.params,
-                 runStatusName(r.status),
-                 r.reason,
-                 passList,
-                 ok ? num(r.frame.medianMs) : "",
-                 ok ? num(r.frame.minMs) : "",
-                 ok ? num(r.frame.maxMs) : "",
-                 ok ? num(r.frame.mdapePct) : "",
-                 ok ? (r.frame.mdapePct > 5.0 ? "1" : "0") : "",
-                 metric(finalErr.rmse),
-                 metric(finalErr.relmse),
-                 metric(finalErr.psnr),
-                 metric(finalErr.ssim),
-                 metric(finalErr.maxAbs),
-                 measured ? std::to_string(finalErr.maxX) : "",
-                 measured ? std::to_string(finalErr.maxY) : "",
-                 metric(lsErr.rmse),
-                 metric(lsErr.relmse),
-                 metric(lsErr.psnr),
-                 metric(lsErr.ssim),
-                 metric(lsErr.maxAbs),
-                 std::to_string(r.nonFinitePixels),
-                 statsText,
-                 exactMetric(exactErr.rmse),
-                 exactMetric(exactErr.relmse),
-                 exactMetric(exactErr.psnr),
-                 exactMetric(exactErr.ssim),
-                 exactMetric(exactLsErr.rmse),
-                 exactMetric(exactLsErr.relmse),
-                 std::to_string(width),
-                 std::to_string(height),
-                 std::to_string(r.shadowMapSize),
-                 std::to_string(req.frames),
-                 referenceLabel,
-                 timerName,
-                 info.glRenderer,
-                 date});
-    passes.removeMatching({scene.name, r.method, r.params}, 3);
-    for (const auto& p : r.passes) {
-      const TimingStats& s = r.passStats.at(p);
-      passes.upsert({scene.name, r.method, r.params, p, num(s.medianMs), num(s.minMs), num(s.maxMs), num(s.mdapePct),
-                     std::to_string(s.samples), timerName, info.glRenderer});
-    }
-    if (ok)
-      passes.upsert({scene.name, r.method, r.params, PassTimer::kFrame, num(r.frame.medianMs), num(r.frame.minMs),
-                     num(r.frame.maxMs), num(r.frame.mdapePct), std::to_string(r.frame.samples), timerName,
-                     info.glRenderer});
-    runs.save(runsPath);
-    passes.save(passesPath);
-    char summary[256];
-    if (ok)
-      std::snprintf(summary, sizeof summary, "%.2f ms/frame%s%s", r.frame.medianMs,
-                    measured ? (", rmse " + num(finalErr.rmse) + ", psnr " + num(finalErr.psnr) + " dB").c_str() : "",
-                    r.frame.mdapePct > 5.0 ? " (unstable timing)" : "");
-    else
-      std::snprintf(summary, sizeof summary, "%s: %s", runStatusName(r.status), r.reason.c_str());
-    progress.finished(summary);
     std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", r.method.c_str(), r.params.c_str(), runStatusName(r.status),
-                ok ? num(r.frame.medianMs).c_str() : "-", measured ? num(finalErr.rmse).c_str() : "-",
-                measured ? num(finalErr.psnr).c_str() : "-", measured ? num(finalErr.ssim).c_str() : "-");
+                ok ? num(r.frame.medianMs).c_str() : "-", m.measured ? num(m.finalErr.rmse).c_str() : "-",
+                m.measured ? num(m.finalErr.psnr).c_str() : "-", m.measured ? num(m.finalErr.ssim).c_str() : "-");
     std::fflush(stdout);
-    ++item;
   }
   meta["status"] = "finished";
   meta["failures"] = failures;
-  writeFileAtomic(metaPath, meta.dump(2) + "\n");
-  std::printf("results: %s  %s  %s\n", runsPath.c_str(), passesPath.c_str(), metaPath.c_str());
+  files.writeMeta(meta);
+  std::printf("%s\n", files.summary().c_str());
   return failures > 0 ? 3 : 0;
 }
 
-int runCommand(const RunRequest& request, bool shootout) {
+int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& registry) {
   try {
-    return runChecked(request, shootout);
+    return runChecked(request, shootout, registry);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "vshadow: error: %s\n", e.what());
     return 2;

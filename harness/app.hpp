@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "method.hpp"
+
 namespace vs {
 
 struct RunRequest {
@@ -23,7 +25,7 @@ struct RunRequest {
   std::string commandLine;
 };
 
-int listCommand();
-int runCommand(const RunRequest& request, bool shootout);
+int listCommand(const MethodRegistry& registry);
+int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& registry);
 
 }  // namespace vs

@@ -6,23 +6,43 @@ Effects deriveEffects(const Scene& scene) {
   Effects e;
   e.scattering = scene.medium.sigmaS > 0.0f;
   e.extinction = scene.medium.sigmaT() > 0.0f;
+  for (const Volume& v : scene.volumes) {
+    e.volumeData = true;
+    // A volume that only absorbs still needs the method's pass: it outputs the camera ray's
+    // transmittance through the volume with L_s.
+    bool present = v.sigmaT() > 0.0f && v.densityScale > 0.0f && v.maxDensity() > 0.0f;
+    e.scattering = e.scattering || present;
+    e.extinction = e.extinction || present;
+  }
   e.lightTexture = scene.light.hasTexture();
   e.anisotropic = scene.medium.phase == Phase::HenyeyGreenstein && scene.medium.g != 0.0f;
+  e.areaLight = isAreaLight(scene.light.type);
+  for (const Mesh& m : scene.meshes) {
+    if (!m.isOpaque()) e.semiTransparent = true;
+    if (!m.isOpaque() && m.hasTransmittanceColor()) e.coloredShadows = true;
+  }
   e.light = scene.light.type;
   return e;
 }
 
-std::string Effects::describe() const {
+std::string joinFlags(const std::vector<std::pair<bool, const char*>>& flags, const char* separator) {
   std::string s;
-  auto add = [&](bool on, const char* name) {
-    if (on) s += (s.empty() ? "" : "+") + std::string(name);
-  };
-  add(scattering, "scattering");
-  add(extinction, "extinction");
-  add(lightTexture, "light-texture");
-  add(anisotropic, "hg-phase");
-  add(true, light == LightType::Point ? "point" : light == LightType::Spot ? "spot" : "directional");
+  for (const auto& [on, name] : flags)
+    if (on) s += (s.empty() ? "" : separator) + std::string(name);
   return s;
+}
+
+std::string Effects::describe() const {
+  return joinFlags({{scattering, "scattering"},
+                    {extinction, "extinction"},
+                    {lightTexture, "light-texture"},
+                    {anisotropic, "hg-phase"},
+                    {volumeData, "volume-data"},
+                    {semiTransparent, "semi-transparent"},
+                    {coloredShadows, "colored-shadows"},
+                    {areaLight, "area-light"},
+                    {true, lightTypeName(light)}},
+                   "+");
 }
 
 }  // namespace vs

@@ -1,4 +1,5 @@
-// The effects a scene calls for; passes that no effect needs are neither built nor run.
+// The effects a scene calls for; passes that no effect needs are neither built nor run, and a
+// method runs a scene only when its Capabilities cover every effect (method.hpp, missingCapability).
 #pragma once
 #include <string>
 #include <vector>
@@ -8,14 +9,21 @@
 namespace vs {
 
 struct Effects {
-  bool scattering = false;    // sigma_s > 0: in-scattering passes run
-  bool extinction = false;    // sigma_t > 0: surfaces are attenuated along view and light rays
-  bool lightTexture = false;  // the light carries a texture: light-texture work runs
-  bool anisotropic = false;   // Henyey-Greenstein phase with g != 0
+  bool scattering = false;       // sigma_s > 0, or volume data: the method's passes run
+  bool extinction = false;       // sigma_t > 0: surfaces are attenuated along view and light rays
+  bool lightTexture = false;     // the light carries a texture: light-texture work runs
+  bool anisotropic = false;      // Henyey-Greenstein phase with g != 0
+  bool areaLight = false;        // rect or disk light: integrated over the light's surface
+  bool volumeData = false;       // density grids: heterogeneous sigma_t, 3D textures
+  bool semiTransparent = false;  // occluders with opacity < 1: light transmittance through layers
+  bool coloredShadows = false;   // semi-transparent occluders with a transmittance colour
   LightType light = LightType::Point;
   std::string describe() const;  // "scattering+extinction+point"
 };
 
 Effects deriveEffects(const Scene& scene);
+
+// Joins the names whose flag is set: the one helper behind Effects and Capabilities descriptions.
+std::string joinFlags(const std::vector<std::pair<bool, const char*>>& flags, const char* separator);
 
 }  // namespace vs

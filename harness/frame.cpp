@@ -30,8 +30,7 @@ glm::mat4 cameraProjection(const Camera& c, float aspect) {
 }
 
 std::string sceneDefines(const Effects& effects) {
-  int type = effects.light == LightType::Point ? 0 : effects.light == LightType::Spot ? 1 : 2;
-  return "#define VS_LIGHT_TYPE " + std::to_string(type) + "\n#define VS_LIGHT_TEXTURE " +
+  return "#define VS_LIGHT_TYPE " + std::to_string(lightTypeCode(effects.light)) + "\n#define VS_LIGHT_TEXTURE " +
          std::to_string(effects.lightTexture ? 1 : 0) + "\n#define VS_HG_PHASE " +
          std::to_string(effects.anisotropic ? 1 : 0) + "\n";
 }
@@ -210,8 +209,7 @@ void SharedPasses::updateUniforms(uint32_t frameIndex, uint32_t seed) {
   f.eye = glm::vec4(cam.position, 0.0f);
   glm::vec3 forward = safeDirection(cam.target - cam.position, {0, 0, -1});
   f.cameraForward = glm::vec4(forward, std::tan(glm::radians(cam.fovYDeg) * 0.5f));
-  int type = light.type == LightType::Point ? 0 : light.type == LightType::Spot ? 1 : 2;
-  f.lightPos = glm::vec4(light.position, float(type));
+  f.lightPos = glm::vec4(light.position, float(lightTypeCode(light.type)));
   f.lightDir = glm::vec4(safeDirection(light.direction, {0, -1, 0}), std::cos(glm::radians(light.spotOuterDeg)));
   f.lightColor = glm::vec4(light.color * light.intensity, std::cos(glm::radians(light.spotInnerDeg)));
   f.shadowParams = glm::vec4(shadow_.nearZ, shadow_.farZ, float(shadow_.size), effects_.lightTexture ? 1.0f : 0.0f);
@@ -302,9 +300,15 @@ void SharedPasses::renderDirect(PassTimer& timer) {
   drawFullscreen(directFbo_.id(), directProgram_.id());
 }
 
+void SharedPasses::clearShadowMap() {
+  const float one = 1.0f;
+  int faces = shadow_.type == LightType::Point ? 6 : 1;
+  for (int f = 0; f < faces; ++f) glClearNamedFramebufferfv(shadow_.fbos[f].id(), GL_DEPTH, 0, &one);
+}
+
 void SharedPasses::clearInscatter() {
-  const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(inscatterFbo_.id(), GL_COLOR, 0, zero);
+  const float nothing[4] = {0, 0, 0, 1};  // no L_s, transmittance 1
+  glClearNamedFramebufferfv(inscatterFbo_.id(), GL_COLOR, 0, nothing);
 }
 
 void SharedPasses::composite(PassTimer& timer) {

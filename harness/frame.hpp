@@ -103,6 +103,7 @@ class SharedPasses {
   void renderGBuffer(PassTimer& timer);     // "G Buffer"
   void renderDirect(PassTimer& timer);      // "Direct Lighting"
   void clearInscatter();
+  void clearShadowMap();                    // every face to the far plane: V = 1
   void composite(PassTimer& timer);         // "Composite"
   Frame frame() const;
   Image readInscatter() const;

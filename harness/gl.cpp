@@ -1,4 +1,5 @@
 #include "gl.hpp"
+#include "scenes/content_hash.hpp"
 
 #include <atomic>
 #include <cstdlib>
@@ -272,14 +273,12 @@ Program buildFullscreen(const std::string& fragmentPath, const std::string& defi
 }
 
 std::string shaderSourcesHash() {
-  uint64_t h = 1469598103934665603ull;
+  ContentHasher hasher;
   for (const auto& entry : shaderFiles()) {
-    const std::string& name = entry.first;
-    for (char c : name + '\0' + shaderText(name)) h = (h ^ uint8_t(c)) * 1099511628211ull;
+    hasher.addBlock(entry.first);
+    hasher.addBlock(shaderText(entry.first));
   }
-  char buf[20];
-  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
-  return buf;
+  return hasher.hex();
 }
 
 // ---- debug output

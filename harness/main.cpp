@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app.hpp"
+#include "methods/registry.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"vshadow: time volumetric-shadow methods pass by pass and measure their error against a "
@@ -53,7 +54,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "vshadow: error: %s (see vshadow --help)\n", e.what());
     return 2;
   }
-  if (app.got_subcommand("list")) return vs::listCommand();
-  if (app.got_subcommand("run")) return vs::runCommand(run, false);
-  return vs::runCommand(shootout, true);
+  if (app.got_subcommand("list")) return vs::listCommand(vs::registeredMethods());
+  if (app.got_subcommand("run")) return vs::runCommand(run, false, vs::registeredMethods());
+  return vs::runCommand(shootout, true, vs::registeredMethods());
 }

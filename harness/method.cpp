@@ -3,26 +3,22 @@
 namespace vs {
 
 std::string Capabilities::describe() const {
-  std::string s;
-  auto add = [&](bool on, const char* name) {
-    if (on) s += (s.empty() ? "" : ", ") + std::string(name);
-  };
-  add(pointLight, "point");
-  add(spotLight, "spot");
-  add(directionalLight, "directional");
-  add(areaLight, "area");
-  add(texturedLight, "textured light");
-  add(homogeneousMedium, "homogeneous medium");
-  add(henyeyGreenstein, "Henyey-Greenstein");
-  add(volumeData, "volume data");
-  add(semiTransparentOccluders, "semi-transparent occluders");
-  add(surfaceShadows, "surface shadows");
-  return s;
+  return joinFlags({{pointLight, "point"},
+                    {spotLight, "spot"},
+                    {directionalLight, "directional"},
+                    {areaLight, "area"},
+                    {texturedLight, "textured light"},
+                    {homogeneousMedium, "homogeneous medium"},
+                    {henyeyGreenstein, "Henyey-Greenstein"},
+                    {volumeData, "volume data"},
+                    {semiTransparentOccluders, "semi-transparent occluders"},
+                    {coloredShadows, "colored shadows"},
+                    {surfaceShadows, "surface shadows"}},
+                   ", ");
 }
 
-std::string Method::unsupportedReason(const Scene& scene, const ParamValues&) const {
-  Capabilities c = capabilities();
-  switch (scene.light.type) {
+std::string missingCapability(const Capabilities& c, const Effects& e) {
+  switch (e.light) {
     case LightType::Point:
       if (!c.pointLight) return "point lights are not supported";
       break;
@@ -32,11 +28,21 @@ std::string Method::unsupportedReason(const Scene& scene, const ParamValues&) co
     case LightType::Directional:
       if (!c.directionalLight) return "directional lights are not supported";
       break;
+    case LightType::Rect:
+    case LightType::Disk:
+      if (!c.areaLight) return "area lights are not supported";
+      break;
   }
-  if (scene.light.hasTexture() && !c.texturedLight) return "textured lights are not supported";
-  if (scene.medium.phase == Phase::HenyeyGreenstein && scene.medium.g != 0.0f && !c.henyeyGreenstein)
-    return "the Henyey-Greenstein phase function is not supported";
+  if (e.lightTexture && !c.texturedLight) return "textured lights are not supported";
+  if (e.anisotropic && !c.henyeyGreenstein) return "the Henyey-Greenstein phase function is not supported";
+  if (e.volumeData && !c.volumeData) return "volume data is not supported";
+  if (e.semiTransparent && !c.semiTransparentOccluders) return "semi-transparent occluders are not supported";
+  if (e.coloredShadows && !c.coloredShadows) return "colored shadows are not supported";
   return "";
+}
+
+std::string Method::unsupportedReason(const Scene& scene, const ParamValues&) const {
+  return missingCapability(capabilities(), deriveEffects(scene));
 }
 
 std::vector<ParamSpec> sharedParams(int maxShadowMapSize) {
@@ -54,15 +60,15 @@ std::vector<ParamSpec> allParams(const Method& method, int maxShadowMapSize) {
   return all;
 }
 
-std::unique_ptr<Method> createMethod(const std::string& name) {
-  for (const auto& info : registeredMethods())
+std::unique_ptr<Method> createMethod(const MethodRegistry& registry, const std::string& name) {
+  for (const auto& info : registry)
     if (info.name == name) return info.create();
-  throw UsageError("unknown method '" + name + "' (methods: " + knownMethodNames() + ")");
+  throw UsageError("unknown method '" + name + "' (methods: " + knownMethodNames(registry) + ")");
 }
 
-std::string knownMethodNames() {
+std::string knownMethodNames(const MethodRegistry& registry) {
   std::string s;
-  for (const auto& info : registeredMethods()) s += (s.empty() ? "" : ", ") + info.name;
+  for (const auto& info : registry) s += (s.empty() ? "" : ", ") + info.name;
   return s;
 }
 

@@ -13,6 +13,7 @@
 
 namespace vs {
 
+// What a method supports, declared once; missingCapability() matches it against a scene's Effects.
 struct Capabilities {
   bool pointLight = false, spotLight = false, directionalLight = false, areaLight = false;
   bool texturedLight = false;
@@ -20,9 +21,14 @@ struct Capabilities {
   bool henyeyGreenstein = false;
   bool volumeData = false;
   bool semiTransparentOccluders = false;
+  bool coloredShadows = false;
   bool surfaceShadows = false;
   std::string describe() const;
 };
+
+// The one place a method's capabilities meet a scene's effects: empty when every effect is
+// covered, otherwise a reason naming the first missing effect ("needs volume data").
+std::string missingCapability(const Capabilities& capabilities, const Effects& effects);
 
 struct SetupContext {
   const Scene& scene;
@@ -45,13 +51,23 @@ class Method {
   virtual std::vector<std::string> qualityLadder() const { return {""}; }
   // Parameters that make this method the ray-marched reference; empty when it cannot be one.
   virtual std::string referenceParams() const { return ""; }
-  // Why this method cannot render `scene` with `params`; empty when it can. The default checks
-  // the light type, light texture and phase against capabilities().
+  // Why this method cannot render `scene` with `params`; empty when it can. The default is
+  // missingCapability(capabilities(), effects of the scene); override only for reasons that depend
+  // on the parameters, and call the default too.
   virtual std::string unsupportedReason(const Scene& scene, const ParamValues& params) const;
+  // false: the method builds its own light-space structure, so the runner neither renders nor
+  // times the shared shadow map (Direct Lighting then sees V = 1 and the method must re-shade
+  // L_surf with its own surface shadows, Frame::directFbo).
+  virtual bool needsSharedShadowMap() const { return true; }
+  // Where the method departs from the model (README "What is computed"), one short phrase each,
+  // e.g. "homogeneous extinction along light rays"; recorded in every result row.
+  virtual std::vector<std::string> approximations() const { return {}; }
   // Allocate and compile; called once before the frames. Throw to fail the run with a reason.
   virtual void setup(const SetupContext& context, const ParamValues& params) = 0;
-  // Write L_s into frame.inscatterFbo; every pass inside timer.scope("Paper's pass name").
-  // Called only when the scene scatters light (Effects::scattering).
+  // Write L_s into frame.inscatterFbo (rgb) and the camera ray's transmittance through volume
+  // data (alpha; 1 without volumes: the homogeneous medium is applied by the composite); every
+  // pass inside timer.scope("Paper's pass name"). Called only when the scene scatters light
+  // (Effects::scattering). setup() is timed on its own (the setup_ms column).
   virtual void render(const Frame& frame, PassTimer& timer) = 0;
   // The largest relMSE of L_s against the reference this method promises at its default
   // parameters on every regular case of the hard-case suite (tests/stability_tests.cpp).
@@ -67,13 +83,14 @@ struct MethodInfo {
   std::string name;
   std::function<std::unique_ptr<Method>()> create;
 };
-// Defined in methods/registry.cpp: one line per method.
-const std::vector<MethodInfo>& registeredMethods();
+// The methods a program can run. The harness never names a method: the program passes the
+// registry in (methods/registry.hpp defines the project's).
+using MethodRegistry = std::vector<MethodInfo>;
 
 // Shared parameters every method accepts, appended to its own.
 std::vector<ParamSpec> sharedParams(int maxShadowMapSize);
 std::vector<ParamSpec> allParams(const Method& method, int maxShadowMapSize);
-std::unique_ptr<Method> createMethod(const std::string& name);  // throws UsageError if unknown
-std::string knownMethodNames();
+std::unique_ptr<Method> createMethod(const MethodRegistry& registry, const std::string& name);  // UsageError if unknown
+std::string knownMethodNames(const MethodRegistry& registry);
 
 }  // namespace vs

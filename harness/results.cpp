@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -31,20 +32,36 @@ void writeFileAtomic(const std::string& path, const std::string& text) {
   }
 }
 
-std::vector<std::string> runsCsvHeader() {
-  return {"scene",         "method",         "params",      "status",        "reason",       "passes",
-          "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable",
-          "rmse",          "relmse",         "psnr",        "ssim",          "max_abs",      "max_abs_x",
-          "max_abs_y",     "ls_rmse",        "ls_relmse",   "ls_psnr",       "ls_ssim",      "ls_max_abs",
-          "nonfinite_pixels", "method_stats", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim",
-          "exact_ls_rmse", "exact_ls_relmse", "width",      "height",        "shadow_map",   "frames",
-          "reference",     "timer",          "renderer",    "date"};
+const std::vector<std::string>& runsColumns() {
+  static const std::vector<std::string> columns = {
+      "scene", "method", "params", "status", "reason", "effects", "passes", "approximations", "setup_ms",
+      "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable", "rmse", "relmse", "psnr",
+      "ssim", "max_abs", "max_abs_x", "max_abs_y", "ls_rmse", "ls_relmse", "ls_psnr", "ls_ssim", "ls_max_abs",
+      "nonfinite_pixels", "method_stats", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
+      "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
+  return columns;
 }
 
-std::vector<std::string> passesCsvHeader() {
-  return {"scene",  "method", "params",   "pass",  "median_ms", "min_ms",
-          "max_ms", "mdape_pct", "frames", "timer", "renderer"};
+const std::vector<std::string>& passesColumns() {
+  static const std::vector<std::string> columns = {"scene",  "method",    "params", "pass",  "median_ms", "min_ms",
+                                                   "max_ms", "mdape_pct", "frames", "timer", "renderer"};
+  return columns;
 }
+
+size_t ResultRow::index(const std::string& column) const {
+  for (size_t i = 0; i < columns_->size(); ++i)
+    if ((*columns_)[i] == column) return i;
+  throw std::logic_error("result table has no column '" + column + "'");
+}
+
+ResultRow& ResultRow::set(const std::string& column, const std::string& value) {
+  values_[index(column)] = value;
+  return *this;
+}
+
+ResultRow& ResultRow::set(const std::string& column, double value) { return set(column, num(value)); }
+
+const std::string& ResultRow::get(const std::string& column) const { return values_[index(column)]; }
 
 std::string num(double v) {
   if (std::isnan(v)) return "nan";
@@ -123,13 +140,24 @@ void CsvTable::loadExisting(const std::string& path) {
   ss << in.rdbuf();
   auto rows = parse(ss.str());
   if (rows.empty()) return;
-  if (rows[0] != header_)
-    throw std::runtime_error(path + " exists with other columns; write to another --out folder");
-  for (size_t i = 1; i < rows.size(); ++i)
-    if (rows[i].size() == header_.size()) rows_.push_back(rows[i]);
+  // Each column of the file, by name, to its place in this table.
+  std::vector<size_t> place;
+  for (const auto& name : rows[0]) {
+    auto it = std::find(header_.begin(), header_.end(), name);
+    if (it == header_.end())
+      throw std::runtime_error(path + " has a column '" + name + "' this version does not write; write to another --out folder");
+    place.push_back(size_t(it - header_.begin()));
+  }
+  for (size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].size() != place.size()) continue;
+    std::vector<std::string> row(header_.size());
+    for (size_t c = 0; c < place.size(); ++c) row[place[c]] = rows[i][c];
+    rows_.push_back(std::move(row));
+  }
 }
 
-void CsvTable::upsert(const std::vector<std::string>& row) {
+void CsvTable::upsert(const ResultRow& result) {
+  const std::vector<std::string>& row = result.fields();
   if (row.size() != header_.size()) throw std::logic_error("CSV row has the wrong number of fields");
   for (auto& existing : rows_) {
     bool same = true;
@@ -142,11 +170,17 @@ void CsvTable::upsert(const std::vector<std::string>& row) {
   rows_.push_back(row);
 }
 
-void CsvTable::removeMatching(const std::vector<std::string>& prefix, size_t n) {
+void CsvTable::removeWhere(const std::vector<std::pair<std::string, std::string>>& match) {
+  std::vector<size_t> columns;
+  for (const auto& m : match) {
+    auto it = std::find(header_.begin(), header_.end(), m.first);
+    if (it == header_.end()) throw std::logic_error("result table has no column '" + m.first + "'");
+    columns.push_back(size_t(it - header_.begin()));
+  }
   std::vector<std::vector<std::string>> kept;
   for (auto& r : rows_) {
     bool same = true;
-    for (size_t k = 0; k < n && same; ++k) same = r[k] == prefix[k];
+    for (size_t k = 0; k < match.size() && same; ++k) same = r[columns[k]] == match[k].second;
     if (!same) kept.push_back(r);
   }
   rows_ = std::move(kept);

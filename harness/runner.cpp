@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "results.hpp"
+#include "scenes/content_hash.hpp"
 
 namespace vs {
 
@@ -43,6 +44,7 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   result.method = method.name();
   result.params = params.canonical();
   result.shadowMapSize = params.getInt("sm");
+  result.approximations = method.approximations();
   std::string unsupported = method.unsupportedReason(scene_, params);
   if (!unsupported.empty()) {
     result.status = RunStatus::Unsupported;
@@ -56,8 +58,16 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     // Passes a scene does not call for are not built: without scattering the method is not set up.
     if (effects_.scattering) {
       SetupContext context{scene_, *geometry_, effects_, options_.width, options_.height, result.shadowMapSize, limits_};
+      glFinish();
+      auto start = std::chrono::steady_clock::now();
       method.setup(context, params);
+      glFinish();
+      result.setupMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
+    // A method with its own light-space structure does not pay for the shared shadow map: it is
+    // cleared once (V = 1) and not rendered.
+    bool sharedShadowMap = !effects_.scattering || method.needsSharedShadowMap();
+    if (!sharedShadowMap) shared_->clearShadowMap();
     gl::checkErrors("method setup");
     PassTimer timer(options_.timer);
     int total = options_.warmup + options_.frames;
@@ -65,7 +75,7 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
       shared_->updateUniforms(uint32_t(f), options_.seed);
       gl::resetPipelineState();
       timer.beginFrame(f >= options_.warmup);
-      shared_->renderShadowMap(timer);
+      if (sharedShadowMap) shared_->renderShadowMap(timer);
       shared_->renderGBuffer(timer);
       shared_->renderDirect(timer);
       if (effects_.scattering) {
@@ -111,9 +121,9 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   return result;
 }
 
-ResolvedSpec resolveSpec(const std::string& text, const gl::Limits& limits) {
+ResolvedSpec resolveSpec(const std::string& text, const gl::Limits& limits, const MethodRegistry& registry) {
   MethodSpec spec = parseMethodSpec(text);
-  auto method = createMethod(spec.method);
+  auto method = createMethod(registry, spec.method);
   int maxShadow = std::min(limits.maxTextureSize, limits.maxCubeMapSize);
   return {spec.method, ParamValues::parse(spec.method, allParams(*method, maxShadow), spec.params)};
 }
@@ -127,19 +137,11 @@ std::string defaultCacheDir() {
   return ".vshadow-cache";
 }
 
-static std::string hashText(const std::string& text) {
-  uint64_t h = 1469598103934665603ull;
-  for (char c : text) h = (h ^ uint8_t(c)) * 1099511628211ull;
-  char buf[20];
-  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
-  return buf;
-}
-
 Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options, int shadowMapSize,
-                          const std::string& cacheDir, const std::string& overrideSpec) {
+                          const std::string& cacheDir, const MethodRegistry& registry, const std::string& overrideSpec) {
   std::string spec = overrideSpec;
   if (spec.empty()) {
-    for (const auto& info : registeredMethods()) {
+    for (const auto& info : registry) {
       auto m = info.create();
       if (!m->referenceParams().empty()) {
         spec = info.name + ":" + m->referenceParams() + ":sm=" + std::to_string(shadowMapSize);
@@ -148,14 +150,16 @@ Reference obtainReference(const Scene& scene, const gl::Limits& limits, const Ru
     }
     if (spec.empty()) throw std::runtime_error("no registered method can serve as the reference");
   }
-  ResolvedSpec resolved = resolveSpec(spec, limits);
+  ResolvedSpec resolved = resolveSpec(spec, limits, registry);
   Reference ref;
   ref.method = resolved.method;
   ref.params = resolved.params.canonical();
   std::string keyText = "vshadow-reference-v1\n" + scene.contentHash + "\n" + std::to_string(options.width) + "x" +
                         std::to_string(options.height) + "\n" + ref.method + ":" + ref.params + "\nseed=" +
                         std::to_string(options.seed) + "\nshaders=" + gl::shaderSourcesHash();
-  ref.cacheKey = hashText(keyText);
+  ContentHasher hasher;
+  hasher.addBlock(keyText);
+  ref.cacheKey = hasher.hex();
   fs::path base = fs::path(cacheDir) / (scene.name + "-" + ref.cacheKey);
   ref.cachePath = base.string();
   std::string lsPath = base.string() + ".ls.exr", finalPath = base.string() + ".final.exr";
@@ -174,7 +178,7 @@ Reference obtainReference(const Scene& scene, const gl::Limits& limits, const Ru
     }
   }
   auto start = std::chrono::steady_clock::now();
-  auto method = createMethod(resolved.method);
+  auto method = createMethod(registry, resolved.method);
   RunOptions refOptions = options;
   refOptions.frames = 1;
   refOptions.warmup = 0;

@@ -32,6 +32,8 @@ struct MethodRun {
   RunStatus status = RunStatus::Success;
   std::string reason;
   std::vector<std::string> passes;  // passes that ran, in order
+  std::vector<std::string> approximations;  // Method::approximations()
+  double setupMs = 0;               // Method::setup, wall clock bracketed by glFinish
   std::map<std::string, TimingStats> passStats;
   TimingStats frame;
   std::map<std::string, double> stats;
@@ -64,7 +66,7 @@ struct ResolvedSpec {
   std::string method;
   ParamValues params;
 };
-ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits);
+ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits, const MethodRegistry& registry);
 
 // The ray-marched reference: the registered method that declares referenceParams(), at the
 // largest shadow map of the run, cached on disk by a hash of everything that defines it.
@@ -76,6 +78,7 @@ struct Reference {
 };
 std::string defaultCacheDir();
 Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
-                          int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "");
+                          int shadowMapSize, const std::string& cacheDir, const MethodRegistry& registry,
+                          const std::string& overrideSpec = "");
 
 }  // namespace vs

@@ -1,5 +1,6 @@
 // Every method the harness can run: adding a method is its folder plus one line here.
-#include "harness/method.hpp"
+#include "registry.hpp"
+
 #include "minmax/minmax.hpp"
 #include "raymarch/raymarch.hpp"
 #include "vsv/vsv.hpp"
@@ -11,8 +12,8 @@ static MethodInfo entry() {
   return {T().name(), [] { return std::make_unique<T>(); }};
 }
 
-const std::vector<MethodInfo>& registeredMethods() {
-  static const std::vector<MethodInfo> methods = {
+const MethodRegistry& registeredMethods() {
+  static const MethodRegistry methods = {
       entry<RaymarchMethod>(),
       entry<MinmaxMethod>(),
       entry<VsvMethod>(),

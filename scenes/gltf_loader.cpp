@@ -251,6 +251,26 @@ class GltfReader {
     return albedo;
   }
 
+  // alphaMode BLEND: opacity = baseColorFactor alpha; MASK: alpha below alphaCutoff cuts the
+  // primitive out (opacity 0), else opaque; OPAQUE (default): 1. Texture alpha is not decoded yet.
+  float materialOpacity(int materialIndex) const {
+    if (materialIndex < 0 || size_t(materialIndex) >= model_.materials.size()) return 1.0f;
+    const tinygltf::Material& m = model_.materials[size_t(materialIndex)];
+    const std::vector<double>& factor = m.pbrMetallicRoughness.baseColorFactor;
+    double alpha = factor.size() == 4 ? factor[3] : 1.0;
+    if (!(alpha >= 0.0 && alpha <= 1.0))
+      fail("material " + std::to_string(materialIndex) + ": baseColorFactor alpha must be in [0, 1]");
+    if (m.alphaMode == "BLEND") return float(alpha);
+    if (m.alphaMode == "MASK") {
+      if (!(m.alphaCutoff >= 0.0 && m.alphaCutoff <= 1.0))
+        fail("material " + std::to_string(materialIndex) + ": alphaCutoff must be in [0, 1]");
+      return alpha < m.alphaCutoff ? 0.0f : 1.0f;
+    }
+    if (!m.alphaMode.empty() && m.alphaMode != "OPAQUE")
+      fail("material " + std::to_string(materialIndex) + ": unknown alphaMode '" + m.alphaMode + "'");
+    return 1.0f;
+  }
+
   void addMesh(int meshIndex, const glm::mat4& world) {
     if (size_t(meshIndex) >= model_.meshes.size())
       fail("mesh index " + std::to_string(meshIndex) + " out of range (" + std::to_string(model_.meshes.size()) + " meshes)");
@@ -267,6 +287,7 @@ class GltfReader {
       Mesh mesh;
       mesh.name = (source.name.empty() ? "mesh" + std::to_string(meshIndex) : source.name) + "/" + std::to_string(p);
       mesh.albedo = materialAlbedo(primitive.material, what);
+      mesh.opacity = materialOpacity(primitive.material);
       mesh.positions = readVec3(positionAttribute->second, what + " POSITION");
       auto normalAttribute = primitive.attributes.find("NORMAL");
       if (normalAttribute != primitive.attributes.end()) {

@@ -21,7 +21,32 @@ struct Mesh {
   std::vector<uint32_t> indices;     // triangle list
   glm::vec3 albedo{0.8f};            // Lambert albedo (glTF baseColorFactor rgb)
   std::string name;
+  // Light transmission through the surface: one crossing passes 1 - opacity * (1 - transmittanceColor)
+  // per channel; opacity 1 is an opaque occluder, 0 casts no shadow. transmittanceColor 0 (the
+  // default) gives grey shadows of transmittance 1 - opacity.
+  float opacity = 1.0f;
+  glm::vec3 transmittanceColor{0.0f};
+  bool isOpaque() const { return opacity >= 1.0f; }
+  bool hasTransmittanceColor() const { return transmittanceColor != glm::vec3(0.0f); }
+  glm::vec3 crossingTransmittance() const { return glm::vec3(1.0f) - opacity * (glm::vec3(1.0f) - transmittanceColor); }
   size_t triangleCount() const { return indices.size() / 3; }
+};
+
+// A density grid placed in world space by an axis-aligned box: sigma(x) = density(x) * densityScale
+// * (sigmaS, sigmaA) per scene unit, trilinear inside the box (voxel centres), zero outside.
+struct Volume {
+  std::string name;
+  int dims[3] = {0, 0, 0};           // x, y, z voxels
+  std::vector<float> density;        // x fastest, then y, then z; finite and >= 0
+  glm::vec3 boxLo{-1.0f}, boxHi{1.0f};
+  float densityScale = 1.0f;
+  float sigmaS = 1.0f, sigmaA = 0.0f;  // per unit density, 1/scene unit
+  float sigmaT() const { return sigmaS + sigmaA; }
+  size_t voxelCount() const { return size_t(dims[0]) * size_t(dims[1]) * size_t(dims[2]); }
+  float voxel(int x, int y, int z) const { return density[(size_t(z) * dims[1] + y) * dims[0] + x]; }
+  // Trilinear density at a world point (0 outside the box), before densityScale.
+  float densityAt(const glm::vec3& p) const;
+  float maxDensity() const;
 };
 
 struct Camera {
@@ -33,16 +58,33 @@ struct Camera {
   float farZ = 100.0f;
 };
 
-enum class LightType { Point, Spot, Directional };
+enum class LightType { Point, Spot, Directional, Rect, Disk };
+// "point", "spot", "directional", "rect", "disk" (the scene-file names).
+const char* lightTypeName(LightType type);
+// The light-type code shaders see (common.glsl LIGHT_*): 0 point, 1 spot, 2 directional, 3 rect, 4 disk.
+int lightTypeCode(LightType type);
+inline bool isAreaLight(LightType type) { return type == LightType::Rect || type == LightType::Disk; }
 
 struct Light {
   LightType type = LightType::Point;
   glm::vec3 position{0, 5, 0};       // point and spot
   glm::vec3 direction{0, -1, 0};     // spot and directional: direction the light travels (unit)
   glm::vec3 color{1.0f};
-  float intensity = 100.0f;          // point/spot: radiant intensity I (W/sr); directional: irradiance E
+  float intensity = 100.0f;          // point/spot: radiant intensity I (W/sr); directional: irradiance E;
+                                     // rect/disk: radiance L (W/(m^2 sr))
   float spotInnerDeg = 20.0f;        // spot: full intensity inside this half-angle
   float spotOuterDeg = 30.0f;        // spot: zero outside this half-angle (also the shadow-map fov)
+  // Area lights (rect, disk): a Lambertian emitter of radiance `color * intensity` centred at
+  // `position`, facing `direction` (its normal); rect: width along `tangent`, height along
+  // normal x tangent; disk: radius. One-sided (cosine emission into the half-space the normal
+  // faces) unless twoSided. A small light of area A is a point light of intensity
+  // I(w) = radiance * A * |cos| towards w.
+  float width = 1.0f, height = 1.0f, radius = 0.5f;
+  glm::vec3 tangent{1, 0, 0};
+  bool twoSided = false;
+  float area() const;
+  // Point on the light for (u, v) in [0, 1)^2 (rect: uniform over the rectangle; disk: concentric map).
+  glm::vec3 samplePoint(float u, float v) const;
   // Optional light texture (gobo), linear RGB, row 0 = top. Projection: spot = through the cone,
   // directional = orthographic over the shadow-map extent, point = latitude-longitude around the light.
   std::string texturePath;
@@ -69,6 +111,7 @@ struct Scene {
   Camera camera;
   Light light;
   Medium medium;
+  std::vector<Volume> volumes;  // heterogeneous media, added to the homogeneous `medium`
   std::string contentHash; // hash of the scene's defining text and referenced files (cache keys)
   size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
 

@@ -12,6 +12,7 @@
 #include "scenes/mesh_utils.hpp"
 #include "scenes/procedural.hpp"
 #include "scenes/scene.hpp"
+#include "scenes/volume.hpp"
 
 namespace vs {
 
@@ -98,6 +99,9 @@ Camera readCamera(ObjectReader camera) {
   c.nearZ = float(camera.number("near", 0.1, Range::above(0.0)));
   c.farZ = float(camera.number("far", 100.0, Range::above(c.nearZ)));
   camera.finish();
+  // A 32-bit depth buffer and float ray parameters have nothing left to resolve beyond this.
+  if (double(c.farZ) / double(c.nearZ) > 1e9)
+    camera.fail("far", "far / near must be at most 1e9 (got " + formatNumber(double(c.farZ) / double(c.nearZ)) + ")");
   glm::vec3 view = c.target - c.position;
   if (!(glm::length(view) > 0.0f)) camera.fail("target", "must differ from position");
   if (!(glm::length(c.up) > 0.0f)) camera.fail("up", "must not be zero");
@@ -132,12 +136,14 @@ glm::vec3 readLightDirection(ObjectReader& light, const glm::vec3* position) {
 Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& hasher) {
   Light l;
   light.declare({"type", "position", "direction", "target", "color", "intensity", "spot_inner_deg", "spot_outer_deg",
-                 "texture"});
+                 "texture", "width", "height", "radius", "tangent", "two_sided"});
   light.required("type");
-  std::string type = light.choice("type", {"point", "spot", "directional"}, "");
-  l.type = type == "point" ? LightType::Point : type == "spot" ? LightType::Spot : LightType::Directional;
+  std::string type = light.choice("type", {"point", "spot", "directional", "rect", "disk"}, "");
+  for (LightType t : {LightType::Point, LightType::Spot, LightType::Directional, LightType::Rect, LightType::Disk})
+    if (type == lightTypeName(t)) l.type = t;
   l.color = light.vec3("color", glm::vec3(1.0f), Range::atLeast(0.0));
-  l.intensity = float(light.number("intensity", Range::atLeast(0.0)));
+  // Bounded so that intensity times any coefficient and 1/r^2 stays a finite float.
+  l.intensity = float(light.number("intensity", Range::closed(0.0, 1e20)));
   const std::string spotOnly = "only used by spot lights";
   if (l.type == LightType::Point) {
     l.position = light.vec3("position", Range::any());
@@ -151,6 +157,26 @@ Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& h
                                         Range::closedOpen(0.0, 90.0)));
     if (l.spotInnerDeg > l.spotOuterDeg)
       light.fail("spot_inner_deg", "must be <= spot_outer_deg (" + formatNumber(l.spotOuterDeg) + ")");
+  } else if (isAreaLight(l.type)) {
+    l.position = light.vec3("position", Range::any());
+    l.direction = readLightDirection(light, &l.position);
+    if (l.type == LightType::Rect) {
+      l.width = float(light.number("width", Range::above(0.0)));
+      l.height = float(light.number("height", Range::above(0.0)));
+      light.forbid("radius", "only used by disk lights");
+    } else {
+      l.radius = float(light.number("radius", Range::above(0.0)));
+      light.forbid("width", "only used by rect lights");
+      light.forbid("height", "only used by rect lights");
+    }
+    // The tangent is made perpendicular to the normal; by default any perpendicular axis.
+    glm::vec3 fallback = std::fabs(l.direction.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    glm::vec3 tangent = light.vec3("tangent", glm::cross(l.direction, fallback), Range::any());
+    tangent -= l.direction * glm::dot(tangent, l.direction);
+    if (!(glm::length(tangent) > 1e-6f)) light.fail("tangent", "must not be zero or parallel to the light's direction");
+    l.tangent = glm::normalize(tangent);
+    l.twoSided = light.boolean("two_sided", false);
+    if (light.has("texture")) light.fail("texture", "area lights take no texture");
   } else {
     glm::vec3 position;
     bool hasPosition = light.has("target") && light.has("position");
@@ -161,6 +187,9 @@ Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& h
   if (l.type != LightType::Spot) {
     light.forbid("spot_inner_deg", spotOnly);
     light.forbid("spot_outer_deg", spotOnly);
+  }
+  if (!isAreaLight(l.type)) {
+    for (const char* key : {"width", "height", "radius", "tangent", "two_sided"}) light.forbid(key, "only used by area (rect, disk) lights");
   }
   const bool hasTexture = light.has("texture");
   std::string texture = light.string("texture", "");
@@ -176,8 +205,8 @@ Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& h
 Medium readMedium(ObjectReader medium) {
   Medium m;
   medium.declare({"sigma_s", "sigma_a", "phase", "g"});
-  m.sigmaS = float(medium.number("sigma_s", Range::atLeast(0.0)));
-  m.sigmaA = float(medium.number("sigma_a", Range::atLeast(0.0)));
+  m.sigmaS = float(medium.number("sigma_s", Range::closed(0.0, 1e6)));
+  m.sigmaA = float(medium.number("sigma_a", Range::closed(0.0, 1e6)));
   std::string phase = medium.choice("phase", {"isotropic", "hg"}, "isotropic");
   m.phase = phase == "hg" ? Phase::HenyeyGreenstein : Phase::Isotropic;
   if (m.phase == Phase::HenyeyGreenstein) m.g = float(medium.number("g", 0.0, Range::open(-1.0, 1.0)));
@@ -206,7 +235,8 @@ struct GeometryResult {
 
 void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher, GeometryResult& out) {
   const std::string& origin = entry.location().origin;
-  entry.declare({"name", "generator", "params", "albedo", "gltf", "translate", "scale", "rotate_y_deg"});
+  entry.declare({"name", "generator", "params", "albedo", "gltf", "translate", "scale", "rotate_y_deg", "opacity",
+                 "transmittance_color"});
   bool isGenerator = entry.has("generator"), isGltf = entry.has("gltf");
   std::string name = entry.string("name", "");
   const std::string gltfOnly = "only used by glTF entries", generatorOnly = "only used by generator entries";
@@ -215,12 +245,16 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     std::string generator = entry.string("generator");
     const Json* params = entry.optional("params");
     glm::vec3 albedo = entry.vec3("albedo", Mesh().albedo, Range::closed(0.0, 1.0));
+    float opacity = float(entry.number("opacity", 1.0, Range::closed(0.0, 1.0)));
+    glm::vec3 transmittanceColor = entry.vec3("transmittance_color", glm::vec3(0.0f), Range::closed(0.0, 1.0));
     for (const char* key : {"translate", "scale", "rotate_y_deg"}) entry.forbid(key, gltfOnly);
     entry.finish();
     std::vector<Mesh> meshes = generateMeshes(generator, params ? *params : Json::object(), origin,
                                               entry.locationOf("generator").path, entry.locationOf("params").path);
     for (Mesh& mesh : meshes) {
       mesh.albedo = albedo;
+      mesh.opacity = opacity;
+      mesh.transmittanceColor = transmittanceColor;
       if (!name.empty()) mesh.name = name;
       out.meshes.push_back(std::move(mesh));
     }
@@ -234,6 +268,8 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     float rotateYDeg = float(entry.number("rotate_y_deg", 0.0, Range::any()));
     entry.forbid("params", generatorOnly);
     entry.forbid("albedo", "glTF entries take the albedo from their materials (baseColorFactor)");
+    entry.forbid("opacity", "glTF entries take the opacity from their materials (alphaMode, baseColorFactor alpha)");
+    entry.forbid("transmittance_color", "only used by generator entries");
     entry.finish();
     GltfContent content;
     try {
@@ -265,7 +301,7 @@ std::string sceneNameFromOrigin(const std::string& origin) {
 Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin) {
   Json document = parseJsonStrict(text, origin);
   ObjectReader root(document, JsonLocation{origin, ""});
-  for (const char* key : {"description", "geometry", "camera", "light", "medium"}) root.has(key);
+  for (const char* key : {"description", "geometry", "camera", "light", "medium", "volumes"}) root.has(key);
   root.finish();  // catch misspelt top-level keys before any heavy work
 
   Scene scene;
@@ -286,6 +322,13 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
   GeometryResult result;
   for (size_t i = 0; i < geometry.size(); ++i)
     readGeometryEntry(ObjectReader(geometry[i], geometryAt.item(i)), baseDir, hasher, result);
+
+  if (const Json* volumes = root.optional("volumes")) {
+    JsonLocation volumesAt = root.locationOf("volumes");
+    if (!volumes->is_array()) volumesAt.fail("expected an array, got " + std::string(volumes->type_name()));
+    for (size_t i = 0; i < volumes->size(); ++i)
+      scene.volumes.push_back(readVolume(ObjectReader((*volumes)[i], volumesAt.item(i)), baseDir, hasher));
+  }
 
   // The scene JSON's light wins over a light found in its glTF files.
   if (const Json* light = root.optional("light")) {

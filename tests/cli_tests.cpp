@@ -92,18 +92,27 @@ CsvTable loadCsv(const std::string& path, std::vector<std::string> header, size_
   return t;
 }
 
+const std::string& field(const CsvTable& table, const std::vector<std::string>& row, const std::string& column) {
+  auto it = std::find(table.header().begin(), table.header().end(), column);
+  EXPECT_NE(it, table.header().end()) << column;
+  static const std::string none;
+  return it == table.header().end() ? none : row[size_t(it - table.header().begin())];
+}
+
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   std::string dir = makeTempDir("shootout");
   std::string out = dir + "/out";
   CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--size", "64x48", "--frames", "3", "--warmup", "1",
                                 "--out", out, "--cache", dir + "/cache", "--strict-gl"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  CsvTable runs = loadCsv(out + "/runs.csv", runsCsvHeader(), 3);
-  CsvTable passes = loadCsv(out + "/passes.csv", passesCsvHeader(), 4);
+  CsvTable runs = loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns);
+  CsvTable passes = loadCsv(out + "/passes.csv", passesColumns(), kPassesKeyColumns);
   ASSERT_GE(runs.rows().size(), 3u);
   for (const auto& row : runs.rows()) {
-    EXPECT_EQ(row[3], "Success") << row[4];
-    EXPECT_FALSE(row[11].empty());  // rmse
+    EXPECT_EQ(field(runs, row, "status"), "Success") << field(runs, row, "reason");
+    EXPECT_FALSE(field(runs, row, "rmse").empty());
+    EXPECT_FALSE(field(runs, row, "setup_ms").empty());
+    EXPECT_EQ(field(runs, row, "effects"), "scattering+extinction+point");
   }
   EXPECT_GE(passes.rows().size(), runs.rows().size() * 5);
   auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));
@@ -134,7 +143,7 @@ TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   auto meta2 = nlohmann::json::parse(readFile(out + "/meta.json"));
   EXPECT_TRUE(meta2["reference"]["from_cache"].get<bool>());
   // Rows from the first run stay; the re-run row replaces its old self.
-  EXPECT_EQ(loadCsv(out + "/runs.csv", runsCsvHeader(), 3).rows().size(), runs.rows().size());
+  EXPECT_EQ(loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns).rows().size(), runs.rows().size());
 }
 
 TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
@@ -166,10 +175,10 @@ TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
   ::waitpid(pid, &status, 0);
   ASSERT_GE(rows, 2u) << "no row was finished in time";
   auto parsed = CsvTable::parse(readFile(out + "/runs.csv"));
-  ASSERT_EQ(parsed[0], runsCsvHeader());
+  ASSERT_EQ(parsed[0], runsColumns());
   for (size_t i = 1; i < parsed.size(); ++i) {
-    ASSERT_EQ(parsed[i].size(), runsCsvHeader().size());
-    EXPECT_EQ(parsed[i][3], "Success");
+    ASSERT_EQ(parsed[i].size(), runsColumns().size());
+    EXPECT_EQ(parsed[i][3], "Success");  // the header above pins the column order
   }
   // The meta sidecar is complete JSON (it says the run did not finish).
   auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));

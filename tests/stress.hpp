@@ -5,6 +5,7 @@
 #include <string>
 
 #include "harness/runner.hpp"
+#include "registry.hpp"
 
 namespace vs::testing {
 

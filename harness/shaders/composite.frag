@@ -1,5 +1,6 @@
 #version 450 core
-// L = L_surf * exp(-sigma_t d) + L_s.
+// L = L_surf * exp(-sigma_t d) * T_volumes + L_s, with T_volumes (the camera ray's transmittance
+// through volume data) in the in-scatter target's alpha.
 #include "common.glsl"
 layout(binding = 6) uniform sampler2D directRadiance;
 layout(binding = 7) uniform sampler2D inscatter;
@@ -8,7 +9,7 @@ void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   float d = texelFetch(gPosition, pixel, 0).w;
   vec3 surface = texelFetch(directRadiance, pixel, 0).rgb;
-  vec3 scattered = texelFetch(inscatter, pixel, 0).rgb;
-  vec3 L = surface * exp(-sigmaT() * d) + scattered;
+  vec4 scattered = texelFetch(inscatter, pixel, 0);
+  vec3 L = surface * (exp(-sigmaT() * d) * clamp(scattered.a, 0.0, 1.0)) + scattered.rgb;
   outRadiance = vec4(L, 1.0);
 }

@@ -9,6 +9,7 @@
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
+#include "registry.hpp"
 
 namespace {
 

@@ -8,6 +8,7 @@
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
+#include "registry.hpp"
 #include "scenes/scene.hpp"
 
 using namespace vs;

@@ -8,6 +8,7 @@
 
 #include "harness/context.hpp"
 #include "harness/runner.hpp"
+#include "registry.hpp"
 
 namespace vs::testing {
 

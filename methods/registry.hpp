@@ -1,0 +1,20 @@
+// The project's method registry, and shorthands that use it for programs and tests.
+#pragma once
+#include "harness/method.hpp"
+#include "harness/runner.hpp"
+
+namespace vs {
+
+// Defined in registry.cpp: one line per method.
+const MethodRegistry& registeredMethods();
+
+inline std::unique_ptr<Method> createMethod(const std::string& name) { return createMethod(registeredMethods(), name); }
+inline ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits) {
+  return resolveSpec(spec, limits, registeredMethods());
+}
+inline Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
+                                 int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "") {
+  return obtainReference(scene, limits, options, shadowMapSize, cacheDir, registeredMethods(), overrideSpec);
+}
+
+}  // namespace vs

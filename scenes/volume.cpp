@@ -1,0 +1,209 @@
+#include "scenes/volume.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace vs {
+
+namespace {
+
+uint64_t mixBits(uint64_t x) {
+  x ^= x >> 31;
+  x *= 0x7fb5d329728ea185ull;
+  x ^= x >> 27;
+  x *= 0x81dadef4bc2dd44dull;
+  x ^= x >> 33;
+  return x;
+}
+
+// 3D value noise in [0, 1) with quintic interpolation between hashed lattice values.
+double valueNoise3(double x, double y, double z, uint32_t seed) {
+  double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
+  auto lattice = [&](double ix, double iy, double iz) {
+    uint64_t key = mixBits(uint64_t(int64_t(ix)) * 0x9e3779b97f4a7c15ull ^ mixBits(uint64_t(int64_t(iy)) + 0x632be5ab) ^
+                           mixBits(uint64_t(int64_t(iz)) * 0xd6e8feb86659fd93ull) ^ (uint64_t(seed) << 17));
+    return double(key >> 11) * (1.0 / 9007199254740992.0);
+  };
+  auto fade = [](double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); };
+  double tx = fade(x - fx), ty = fade(y - fy), tz = fade(z - fz);
+  double c[2][2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) c[i][j][k] = lattice(fx + i, fy + j, fz + k);
+  auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+  double x00 = lerp(c[0][0][0], c[1][0][0], tx), x10 = lerp(c[0][1][0], c[1][1][0], tx);
+  double x01 = lerp(c[0][0][1], c[1][0][1], tx), x11 = lerp(c[0][1][1], c[1][1][1], tx);
+  return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
+}
+
+void allocate(Volume& v, int nx, int ny, int nz) {
+  v.dims[0] = std::max(nx, 1);
+  v.dims[1] = std::max(ny, 1);
+  v.dims[2] = std::max(nz, 1);
+  v.density.assign(v.voxelCount(), 0.0f);
+}
+
+// Calls f(i, j, k, p) for every voxel with p its centre in [-1, 1]^3.
+template <typename F>
+void forEachVoxel(Volume& v, F f) {
+  for (int k = 0; k < v.dims[2]; ++k)
+    for (int j = 0; j < v.dims[1]; ++j)
+      for (int i = 0; i < v.dims[0]; ++i) {
+        glm::vec3 p((i + 0.5f) / v.dims[0] * 2.0f - 1.0f, (j + 0.5f) / v.dims[1] * 2.0f - 1.0f,
+                    (k + 0.5f) / v.dims[2] * 2.0f - 1.0f);
+        v.density[(size_t(k) * v.dims[1] + j) * v.dims[0] + i] = f(p);
+      }
+}
+
+int scaled(int n, float scale) { return std::max(1, int(std::lround(n * scale))); }
+
+}  // namespace
+
+const std::vector<std::string>& volumeGeneratorNames() {
+  static const std::vector<std::string> names = {"density_box", "bucky", "rods", "cloud"};
+  return names;
+}
+
+void generateVolume(Volume& v, const std::string& generator, float scale, uint32_t seed) {
+  if (generator == "density_box") {
+    int n = scaled(64, scale);
+    allocate(v, n, n, n);
+    forEachVoxel(v, [](glm::vec3 p) {
+      float m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+      return std::clamp(1.0f - m, 0.0f, 1.0f);
+    });
+  } else if (generator == "bucky") {
+    int n = scaled(32, scale);
+    allocate(v, n, n, n);
+    // 60 atoms spread evenly over a shell of radius 0.7 (a Fibonacci sphere), each a ball of radius 0.16.
+    std::vector<glm::vec3> atoms;
+    const float golden = 2.39996322972865332f;
+    for (int a = 0; a < 60; ++a) {
+      float y = 1.0f - 2.0f * (a + 0.5f) / 60.0f, r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+      atoms.push_back(0.7f * glm::vec3(r * std::cos(golden * a), y, r * std::sin(golden * a)));
+    }
+    forEachVoxel(v, [&](glm::vec3 p) {
+      float d = 1e9f;
+      for (const glm::vec3& a : atoms) d = std::min(d, glm::length(p - a));
+      return std::clamp((0.16f - d) / 0.06f + 0.5f, 0.0f, 1.0f);
+    });
+  } else if (generator == "rods") {
+    int n = scaled(64, scale);
+    allocate(v, n, n, n);
+    // Rods of radius 0.12 along each axis at offsets (+-0.45, +-0.45) in the other two axes.
+    forEachVoxel(v, [](glm::vec3 p) {
+      float d = 1e9f;
+      for (int axis = 0; axis < 3; ++axis) {
+        float a = p[(axis + 1) % 3], b = p[(axis + 2) % 3];
+        for (float oa : {-0.45f, 0.45f})
+          for (float ob : {-0.45f, 0.45f}) d = std::min(d, std::hypot(a - oa, b - ob));
+      }
+      return std::clamp((0.12f - d) / 0.04f + 0.5f, 0.0f, 1.0f);
+    });
+  } else if (generator == "cloud") {
+    allocate(v, scaled(512, scale), scaled(32, scale), scaled(512, scale));
+    forEachVoxel(v, [&](glm::vec3 p) {
+      double sum = 0.0, amplitude = 0.5, frequency = 4.0;
+      for (int octave = 0; octave < 4; ++octave) {
+        sum += amplitude * valueNoise3(p.x * frequency, p.y * frequency * 0.25, p.z * frequency, seed + octave);
+        amplitude *= 0.5;
+        frequency *= 2.0;
+      }
+      // Coverage threshold, then a vertical profile that fades at the layer's bottom and top.
+      float profile = std::clamp(1.0f - std::fabs(p.y), 0.0f, 1.0f);
+      return std::clamp(float((sum - 0.45) * 4.0) * profile, 0.0f, 1.0f);
+    });
+  } else {
+    allocate(v, 1, 1, 1);
+  }
+}
+
+Volume readVolume(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher) {
+  Volume v;
+  entry.declare({"name", "raw", "type", "dims", "header_bytes", "generator", "scale", "seed", "box_min", "box_max",
+                 "density_scale", "sigma_s", "sigma_a"});
+  v.name = entry.string("name", "");
+  bool isRaw = entry.has("raw"), isGenerator = entry.has("generator");
+  if (isRaw && isGenerator) entry.fail("generator", "a volume has either 'raw' or 'generator', not both");
+  if (!isRaw && !isGenerator) {
+    entry.failOnMisspellingOf("raw");
+    entry.failOnMisspellingOf("generator");
+    entry.fail("raw", "missing: a volume needs a 'raw' file or a 'generator'");
+  }
+  v.boxLo = entry.vec3("box_min", Range::any());
+  v.boxHi = entry.vec3("box_max", Range::any());
+  for (int k = 0; k < 3; ++k)
+    if (!(v.boxHi[k] > v.boxLo[k])) entry.fail("box_max", "must be greater than box_min on every axis");
+  v.densityScale = float(entry.number("density_scale", 1.0, Range::closed(0.0, 1e6)));
+  v.sigmaS = float(entry.number("sigma_s", 1.0, Range::closed(0.0, 1e6)));
+  v.sigmaA = float(entry.number("sigma_a", 0.0, Range::closed(0.0, 1e6)));
+  if (isGenerator) {
+    std::string generator = entry.choice("generator", volumeGeneratorNames(), "");
+    float scale = float(entry.number("scale", 1.0, Range::openClosed(0.0, 4.0)));
+    uint32_t seed = uint32_t(entry.integer("seed", 1, 0, 4294967295LL));
+    for (const char* key : {"type", "dims", "header_bytes"}) entry.forbid(key, "only used by raw volumes");
+    entry.finish();
+    const int base[4][3] = {{64, 64, 64}, {32, 32, 32}, {64, 64, 64}, {512, 32, 512}};
+    size_t index = size_t(std::find(volumeGeneratorNames().begin(), volumeGeneratorNames().end(), generator) -
+                          volumeGeneratorNames().begin());
+    double voxels = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      int n = scaled(base[index][k], scale);
+      if (n > kMaxVolumeDim) entry.fail("scale", "gives " + std::to_string(n) + " voxels along an axis (at most " +
+                                                     std::to_string(kMaxVolumeDim) + ")");
+      voxels *= n;
+    }
+    if (voxels > double(kMaxVolumeVoxels)) entry.fail("scale", "gives more than 2^28 voxels");
+    generateVolume(v, generator, scale, seed);
+    hasher.addBlock(std::string("volume-generators-v1"));
+    if (v.name.empty()) v.name = generator;
+    return v;
+  }
+  for (const char* key : {"scale", "seed"}) entry.forbid(key, "only used by generated volumes");
+  std::string file = entry.string("raw");
+  if (file.empty()) entry.fail("raw", "must not be empty");
+  std::string type = entry.choice("type", {"u8", "u16", "f32"}, "");
+  entry.required("type");
+  const Json& dims = entry.required("dims");
+  JsonLocation dimsAt = entry.locationOf("dims");
+  if (!dims.is_array() || dims.size() != 3) dimsAt.fail("expected [x, y, z]");
+  for (int k = 0; k < 3; ++k) v.dims[k] = int(readInteger(dims[k], dimsAt.item(k), 1, kMaxVolumeDim));
+  size_t headerBytes = size_t(entry.integer("header_bytes", 0, 0, int64_t(1) << 40));
+  entry.finish();
+  if (v.voxelCount() > kMaxVolumeVoxels) dimsAt.fail("more than 2^28 voxels");
+  if (v.name.empty()) v.name = file;
+
+  std::string path = file;
+  if (!baseDir.empty() && path.front() != '/') path = baseDir + "/" + path;
+  std::string bytes, error;
+  JsonLocation rawAt = entry.locationOf("raw");
+  if (!readFile(path, bytes, error)) rawAt.fail("cannot open volume file '" + path + "': " + error);
+  hasher.addBlock(bytes);
+  size_t typeSize = type == "u8" ? 1 : type == "u16" ? 2 : 4;
+  size_t expected = headerBytes + v.voxelCount() * typeSize;
+  if (bytes.size() != expected)
+    rawAt.fail("volume file '" + path + "' has " + std::to_string(bytes.size()) + " bytes; dims x " + type +
+               " + header_bytes need " + std::to_string(expected));
+  const unsigned char* data = reinterpret_cast<const unsigned char*>(bytes.data()) + headerBytes;
+  v.density.resize(v.voxelCount());
+  for (size_t i = 0; i < v.voxelCount(); ++i) {
+    if (typeSize == 1) {
+      v.density[i] = float(data[i]) / 255.0f;
+    } else if (typeSize == 2) {
+      v.density[i] = float(uint32_t(data[2 * i]) | (uint32_t(data[2 * i + 1]) << 8)) / 65535.0f;
+    } else {
+      uint32_t bits = uint32_t(data[4 * i]) | (uint32_t(data[4 * i + 1]) << 8) | (uint32_t(data[4 * i + 2]) << 16) |
+                      (uint32_t(data[4 * i + 3]) << 24);
+      float d;
+      std::memcpy(&d, &bits, 4);
+      if (!std::isfinite(d) || d < 0.0f)
+        rawAt.fail("volume file '" + path + "': voxel " + std::to_string(i) + " has density " + formatNumber(d) +
+                   " (densities must be finite and >= 0)");
+      v.density[i] = d;
+    }
+  }
+  return v;
+}
+
+}  // namespace vs
