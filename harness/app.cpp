@@ -156,6 +156,8 @@ void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodR
   if (plan.width > maxSize || plan.height > maxSize)
     throw UsageError("--size " + req.size + " exceeds this GL implementation's limit of " + std::to_string(maxSize) +
                      " pixels per side");
+  std::string volumeProblem = volumeLimitProblem(plan.scene, limits);
+  if (!volumeProblem.empty()) throw UsageError(plan.scene.source + ": " + volumeProblem);
   std::vector<std::string> specs;
   if (shootout) {
     for (const auto& info : registry) {

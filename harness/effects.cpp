@@ -22,6 +22,7 @@ Effects deriveEffects(const Scene& scene) {
     if (!m.isOpaque() && m.hasTransmittanceColor()) e.coloredShadows = true;
   }
   e.light = scene.light.type;
+  e.volumeCount = int(scene.volumes.size());
   return e;
 }
 

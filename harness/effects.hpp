@@ -18,6 +18,7 @@ struct Effects {
   bool semiTransparent = false;  // occluders with opacity < 1: light transmittance through layers
   bool coloredShadows = false;   // semi-transparent occluders with a transmittance colour
   LightType light = LightType::Point;
+  int volumeCount = 0;
   std::string describe() const;  // "scattering+extinction+point"
 };
 

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace vs {
 
@@ -30,34 +32,84 @@ glm::mat4 cameraProjection(const Camera& c, float aspect) {
 }
 
 std::string sceneDefines(const Effects& effects) {
-  return "#define VS_LIGHT_TYPE " + std::to_string(lightTypeCode(effects.light)) + "\n#define VS_LIGHT_TEXTURE " +
+  return "#define VS_TRANSLUCENT " + std::to_string(effects.semiTransparent ? 1 : 0) + "\n#define VS_VOLUMES " +
+         std::to_string(effects.volumeData ? effects.volumeCount : 0) + "\n#define VS_LIGHT_TYPE " +
+         std::to_string(lightTypeCode(effects.light)) + "\n#define VS_LIGHT_TEXTURE " +
          std::to_string(effects.lightTexture ? 1 : 0) + "\n#define VS_HG_PHASE " +
          std::to_string(effects.anisotropic ? 1 : 0) + "\n";
+}
+
+// ---- volumes
+
+std::string volumeLimitProblem(const Scene& scene, const gl::Limits& limits) {
+  if (scene.volumes.empty()) return "";
+  if (scene.volumes.size() > size_t(kMaxVolumes))
+    return "the scene has " + std::to_string(scene.volumes.size()) + " volumes; at most " + std::to_string(kMaxVolumes) +
+           " are supported";
+  int units = std::min(limits.maxFragmentTextureUnits, limits.maxComputeTextureUnits);
+  if (units < int(bind::kVolumeDensity0) + kMaxVolumes)
+    return "volume data needs " + std::to_string(bind::kVolumeDensity0 + kMaxVolumes) +
+           " texture units; this GL implementation has " + std::to_string(units);
+  for (const Volume& v : scene.volumes)
+    for (int k = 0; k < 3; ++k)
+      if (v.dims[k] > limits.maxTexture3DSize)
+        return "volume '" + v.name + "' has " + std::to_string(v.dims[k]) +
+               " voxels along an axis; GL_MAX_3D_TEXTURE_SIZE is " + std::to_string(limits.maxTexture3DSize);
+  return "";
+}
+
+VolumesGpu::VolumesGpu(const Scene& scene) {
+  count = std::min(int(scene.volumes.size()), kMaxVolumes);
+  uniforms.count = glm::ivec4(count, 0, 0, 0);
+  for (int i = 0; i < count; ++i) {
+    const Volume& v = scene.volumes[size_t(i)];
+    density[i] = gl::createTexture3D(GL_R32F, v.dims[0], v.dims[1], v.dims[2]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage3D(density[i].id(), 0, 0, 0, 0, v.dims[0], v.dims[1], v.dims[2], GL_RED, GL_FLOAT, v.density.data());
+    glm::vec3 voxel = (v.boxHi - v.boxLo) / glm::vec3(v.dims[0], v.dims[1], v.dims[2]);
+    uniforms.boxLo[i] = glm::vec4(v.boxLo, 0.0f);
+    uniforms.boxHi[i] = glm::vec4(v.boxHi, 0.0f);
+    uniforms.coeff[i] = glm::vec4(v.sigmaS * v.densityScale, v.sigmaT() * v.densityScale, v.maxDensity(),
+                                  std::min({voxel.x, voxel.y, voxel.z}));
+  }
+  ubo = gl::createBuffer(sizeof(VolumeUniforms), &uniforms);
+}
+
+void VolumesGpu::bind() const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, bind::kVolumeUniforms, ubo.id());
+  for (int i = 0; i < count; ++i) glBindTextureUnit(bind::kVolumeDensity0 + GLuint(i), density[i].id());
 }
 
 // ---- scene upload
 
 SceneGpu::SceneGpu(const Scene& scene) {
+  constexpr int kFloats = 12;
   std::vector<float> vertexData;
-  std::vector<uint32_t> indexData;
+  std::vector<uint32_t> opaque, translucent;
   for (const Mesh& mesh : scene.meshes) {
-    uint32_t base = uint32_t(vertexData.size() / 9);
+    if (mesh.opacity <= 0.0f) continue;  // cut out: neither seen nor casting shadows
+    uint32_t base = uint32_t(vertexData.size() / kFloats);
+    glm::vec3 t = mesh.crossingTransmittance();
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
       const glm::vec3& p = mesh.positions[i];
       glm::vec3 n = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0, 1, 0);
-      vertexData.insert(vertexData.end(), {p.x, p.y, p.z, n.x, n.y, n.z, mesh.albedo.r, mesh.albedo.g, mesh.albedo.b});
+      vertexData.insert(vertexData.end(), {p.x, p.y, p.z, n.x, n.y, n.z, mesh.albedo.r, mesh.albedo.g, mesh.albedo.b,
+                                           t.r, t.g, t.b});
     }
-    for (uint32_t index : mesh.indices) indexData.push_back(base + index);
+    std::vector<uint32_t>& target = mesh.isOpaque() ? opaque : translucent;
+    for (uint32_t index : mesh.indices) target.push_back(base + index);
   }
-  indexCount = GLsizei(indexData.size());
+  opaqueIndexCount = GLsizei(opaque.size());
+  opaque.insert(opaque.end(), translucent.begin(), translucent.end());
+  indexCount = GLsizei(opaque.size());
   vertices = gl::createBuffer(vertexData.size() * sizeof(float), vertexData.empty() ? nullptr : vertexData.data(), 0);
-  indices = gl::createBuffer(indexData.size() * sizeof(uint32_t), indexData.empty() ? nullptr : indexData.data(), 0);
+  indices = gl::createBuffer(opaque.size() * sizeof(uint32_t), opaque.empty() ? nullptr : opaque.data(), 0);
   GLuint id = 0;
   glCreateVertexArrays(1, &id);
   vao = gl::VertexArray(id);
-  glVertexArrayVertexBuffer(id, 0, vertices.id(), 0, 9 * sizeof(float));
+  glVertexArrayVertexBuffer(id, 0, vertices.id(), 0, kFloats * sizeof(float));
   glVertexArrayElementBuffer(id, indices.id());
-  for (GLuint a = 0; a < 3; ++a) {
+  for (GLuint a = 0; a < 4; ++a) {
     glEnableVertexArrayAttrib(id, a);
     glVertexArrayAttribFormat(id, a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
     glVertexArrayAttribBinding(id, a, 0);
@@ -71,11 +123,136 @@ void SceneGpu::draw() const {
   glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
 }
 
+void SceneGpu::drawOpaque() const {
+  if (opaqueIndexCount == 0) return;
+  glBindVertexArray(vao.id());
+  glDrawElements(GL_TRIANGLES, opaqueIndexCount, GL_UNSIGNED_INT, nullptr);
+}
+
+void SceneGpu::drawTranslucent() const {
+  GLsizei count = indexCount - opaqueIndexCount;
+  if (count == 0) return;
+  glBindVertexArray(vao.id());
+  glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                 reinterpret_cast<const void*>(size_t(opaqueIndexCount) * sizeof(uint32_t)));
+}
+
+// ---- transmittance map
+
+namespace {
+// std140 mirror of TransmittanceBlock in common.glsl.
+struct TransmittanceUniforms {
+  glm::mat4 faceViewProj[6];
+  glm::vec4 params;  // x size, y faces, z light type, w longest list
+};
+}  // namespace
+
+TransmittanceMap::TransmittanceMap(const SceneGpu& geometry) : geometry_(geometry) {
+  build_ = gl::buildProgram({{GL_VERTEX_SHADER, "harness/shaders/transmittance.vert"},
+                             {GL_FRAGMENT_SHADER, "harness/shaders/transmittance.frag"}});
+  counter_ = gl::createBuffer(2 * sizeof(uint32_t));
+  ubo_ = gl::createBuffer(sizeof(TransmittanceUniforms));
+  GLuint id = 0;
+  glCreateFramebuffers(1, &id);
+  fbo_ = gl::Framebuffer(id);
+}
+
+void TransmittanceMap::resize(const ShadowMap& shadow) {
+  int faces = shadow.type == LightType::Point ? 6 : 1;
+  if (shadow.size != size_ || faces != faces_) {
+    size_ = shadow.size;
+    faces_ = faces;
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+    heads_ = gl::Texture(id);
+    glTextureStorage3D(id, 1, GL_R32UI, size_, size_, faces_);
+    gl::setFilter(id, GL_NEAREST, GL_NEAREST);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+    lengths_ = gl::Texture(id);
+    glTextureStorage3D(id, 1, GL_R32UI, size_, size_, faces_);
+    gl::setFilter(id, GL_NEAREST, GL_NEAREST);
+    glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, size_);
+    glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, size_);
+    if (capacity_ == 0) capacity_ = size_t(size_) * size_ * 2;
+    nodeBuffer_ = gl::createBuffer(capacity_ * 32);
+  }
+}
+
+void TransmittanceMap::clear(const ShadowMap& shadow) {
+  resize(shadow);
+  const GLuint none = 0xFFFFFFFFu;
+  glClearTexImage(heads_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+  TransmittanceUniforms empty{};  // longest list 0: every lookup is 1
+  glNamedBufferSubData(ubo_.id(), 0, sizeof empty, &empty);
+  nodes_ = 0;
+  longest_ = 0;
+}
+
+void TransmittanceMap::render(const ShadowMap& shadow, const glm::vec3& lightPos, const glm::vec3& lightDir,
+                              int lightType) {
+  resize(shadow);
+  int faces = faces_;
+  TransmittanceUniforms tu{};
+  for (int f = 0; f < 6; ++f) tu.faceViewProj[f] = faces == 6 ? shadow.faceViewProj[f] : shadow.viewProj;
+  tu.params = glm::vec4(float(size_), float(faces_), float(lightType), 0.0f);
+  glNamedBufferSubData(ubo_.id(), 0, sizeof tu, &tu);
+
+  // Appends every crossing; when the buffer was too small, grows it and appends again.
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const GLuint none = 0xFFFFFFFFu, zero[2] = {0, 0};
+    glClearTexImage(heads_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+    glClearTexImage(lengths_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero[0]);
+    glNamedBufferSubData(counter_.id(), 0, sizeof zero, zero);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, size_, size_);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glUseProgram(build_.id());
+    glBindImageTexture(0, heads_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(1, lengths_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bind::kTransmittanceNodes, nodeBuffer_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bind::kTransmittanceNodes + 1, counter_.id());
+    glUniform3fv(1, 1, &lightPos.x);
+    glUniform3fv(2, 1, &lightDir.x);
+    glUniform1i(3, lightType);
+    glUniform1ui(4, GLuint(capacity_));
+    for (int f = 0; f < faces_; ++f) {
+      glUniformMatrix4fv(0, 1, GL_FALSE, &tu.faceViewProj[f][0][0]);
+      glUniform1i(5, f);
+      geometry_.drawTranslucent();
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    GLuint counts[2] = {0, 0};  // crossings appended, longest list
+    glGetNamedBufferSubData(counter_.id(), 0, sizeof counts, counts);
+    GLuint appended = counts[0];
+    nodes_ = appended;
+    longest_ = int(counts[1]);
+    if (longest_ > gl::kShaderLoopBudget / 2)
+      throw std::runtime_error(std::to_string(longest_) + " semi-transparent layers over one light texel; at most " +
+                               std::to_string(gl::kShaderLoopBudget / 2) + " can be looked up (shader loop budget)");
+    tu.params.w = float(counts[1]);
+    if (appended <= capacity_) break;
+    capacity_ = size_t(appended) + appended / 2;
+    nodeBuffer_ = gl::createBuffer(capacity_ * 32);
+  }
+  glNamedBufferSubData(ubo_.id(), 0, sizeof tu, &tu);
+}
+
+void TransmittanceMap::bind() const {
+  glBindImageTexture(bind::kTransmittanceHeads, heads_.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+  glBindBufferBase(GL_UNIFORM_BUFFER, bind::kTransmittanceUniforms, ubo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bind::kTransmittanceNodes, nodeBuffer_.id());
+}
+
 // ---- shared passes
 
 SharedPasses::SharedPasses(const Scene& scene, const SceneGpu& geometry, const Effects& effects, int width, int height)
     : scene_(scene), geometry_(geometry), effects_(effects), width_(width), height_(height) {
   ubo_ = gl::createBuffer(sizeof(FrameUniforms));
+  if (effects_.volumeData) volumes_ = std::make_unique<VolumesGpu>(scene_);
+  if (effects_.semiTransparent) transmittance_ = std::make_unique<TransmittanceMap>(geometry_);
   const std::string defines = sceneDefines(effects_);
   shadowProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "harness/shaders/shadow.vert"},
                                      {GL_FRAGMENT_SHADER, "harness/shaders/shadow.frag"}});
@@ -232,13 +409,16 @@ void Frame::bindShared() const {
   glBindTextureUnit(bind::kGPosition, gPosition);
   glBindTextureUnit(bind::kGNormal, gNormal);
   glBindTextureUnit(bind::kGAlbedo, gAlbedo);
+  if (volumes) volumes->bind();
+  if (transmittance) transmittance->bind();
 }
 
 Frame SharedPasses::frame() const {
   return Frame{scene_,          geometry_,          effects_,          uniforms_,         shadow_,
                width_,          height_,            frameIndex_,       seed_,             gPosition_.id(),
                gNormal_.id(),   gAlbedo_.id(),      depth_.id(),       inscatter_.id(),   inscatterFbo_.id(),
-               direct_.id(),    directFbo_.id(),    lightTexture_.id(), ubo_.id()};
+               direct_.id(),    directFbo_.id(),    lightTexture_.id(), ubo_.id(),        volumes_.get(),
+               transmittance_.get()};
 }
 
 void SharedPasses::renderShadowMap(PassTimer& timer) {
@@ -259,9 +439,16 @@ void SharedPasses::renderShadowMap(PassTimer& timer) {
     glClearNamedFramebufferfv(s.fbos[f].id(), GL_DEPTH, 0, &one);
     const glm::mat4& m = s.type == LightType::Point ? s.faceViewProj[f] : s.viewProj;
     glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(m));
-    if (shadowCasters_) geometry_.draw();
+    if (shadowCasters_) geometry_.drawOpaque();
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
+  if (transmittance_) {
+    // Semi-transparent occluders: their crossings per light texel (an empty map without casters).
+    auto scopeT = timer.scope("Transmittance Map");
+    const Light& light = scene_.light;
+    if (shadowCasters_) transmittance_->render(s, light.position, glm::vec3(uniforms_.lightDir), lightTypeCode(light.type));
+    else transmittance_->clear(s);
+  }
 }
 
 void SharedPasses::renderGBuffer(PassTimer& timer) {
@@ -304,6 +491,7 @@ void SharedPasses::clearShadowMap() {
   const float one = 1.0f;
   int faces = shadow_.type == LightType::Point ? 6 : 1;
   for (int f = 0; f < faces; ++f) glClearNamedFramebufferfv(shadow_.fbos[f].id(), GL_DEPTH, 0, &one);
+  if (transmittance_) transmittance_->clear(shadow_);
 }
 
 void SharedPasses::clearInscatter() {

@@ -27,8 +27,66 @@ constexpr GLuint kDirect = 6;             // L_surf
 constexpr GLuint kInscatter = 7;          // L_s
 constexpr GLuint kShadowDepth2D = 8;      // the 2D shadow map as plain depth (sampler2D)
 constexpr GLuint kShadowDepthCube = 9;    // the cube shadow map as plain depth (samplerCube)
-constexpr GLuint kFirstMethodUnit = 10;   // units from here on belong to the method
+constexpr GLuint kFirstMethodUnit = 10;   // units 10-15 belong to the method
+constexpr GLuint kVolumeDensity0 = 16;    // sampler3D per volume: units 16 .. 16 + kMaxVolumes - 1
+constexpr GLuint kVolumeUniforms = 1;     // UBO
+constexpr GLuint kTransmittanceHeads = 7;  // image unit (uimage2DArray): first node per light texel and face
+constexpr GLuint kTransmittanceUniforms = 2;  // UBO
+constexpr GLuint kTransmittanceNodes = 7;   // SSBO
 }  // namespace bind
+
+// Volumes a scene may hold (each a 3D texture on its own unit).
+constexpr int kMaxVolumes = 4;
+
+// std140 mirror of VolumeBlock in common.glsl.
+struct VolumeUniforms {
+  glm::ivec4 count{0};                 // x = number of volumes
+  glm::vec4 boxLo[kMaxVolumes];        // xyz
+  glm::vec4 boxHi[kMaxVolumes];        // xyz
+  glm::vec4 coeff[kMaxVolumes];        // x sigma_s, y sigma_t per unit density (times density_scale),
+                                       // z max density, w smallest voxel side (world units)
+};
+
+// The scene's volumes on the GPU (built only when the scene has volume data).
+struct VolumesGpu {
+  int count = 0;
+  gl::Texture density[kMaxVolumes];
+  gl::Buffer ubo;
+  VolumeUniforms uniforms{};
+  explicit VolumesGpu(const Scene& scene);
+  void bind() const;
+};
+
+// Semi-transparent occluders seen from the light: per light texel (and cube face for point lights) a
+// list of every semi-transparent surface crossing, with its distance from the light and its
+// transmittance; T(x) is the product over the crossings in front of x (common.glsl,
+// translucentTransmittance). Exact along each light ray at texel resolution, any number of layers.
+struct ShadowMap;
+struct SceneGpu;
+class TransmittanceMap {
+ public:
+  TransmittanceMap(const SceneGpu& geometry);
+  // Rebuilt for the shadow map's faces, matrices and size.
+  void render(const ShadowMap& shadow, const glm::vec3& lightPos, const glm::vec3& lightDir, int lightType);
+  void clear(const ShadowMap& shadow);  // no crossings: T = 1
+  void bind() const;
+  size_t nodeCount() const { return nodes_; }
+  int longestList() const { return longest_; }  // the lookups' loop trip count
+
+ private:
+  void resize(const ShadowMap& shadow);
+  const SceneGpu& geometry_;
+  gl::Program build_;
+  gl::Texture heads_, lengths_;  // first node and list length per light texel and face
+  gl::Buffer nodeBuffer_, counter_, ubo_;
+  gl::Framebuffer fbo_;
+  size_t capacity_ = 0, nodes_ = 0;
+  int longest_ = 0;
+  int size_ = 0, faces_ = 0;
+};
+
+// Why the scene's volumes cannot be uploaded with these limits (too many, too large); empty if they can.
+std::string volumeLimitProblem(const Scene& scene, const gl::Limits& limits);
 
 // std140 mirror of FrameUniforms in common.glsl.
 struct FrameUniforms {
@@ -46,13 +104,19 @@ struct FrameUniforms {
   glm::ivec4 viewport;       // width, height, frame index, seed
 };
 
+// Vertex attributes: 0 position, 1 normal, 2 albedo, 3 crossing transmittance (Mesh::crossingTransmittance).
+// Indices are ordered opaque meshes first, then semi-transparent ones; cut-out meshes (opacity 0)
+// are not uploaded.
 struct SceneGpu {
   gl::VertexArray vao;
   gl::Buffer vertices, indices;
-  GLsizei indexCount = 0;
+  GLsizei indexCount = 0;        // every uploaded triangle
+  GLsizei opaqueIndexCount = 0;  // the first opaqueIndexCount indices belong to opaque meshes
   glm::vec3 boundsLo{0}, boundsHi{0};
   explicit SceneGpu(const Scene& scene);
-  void draw() const;
+  void draw() const;             // everything the camera sees
+  void drawOpaque() const;       // what the shadow map holds
+  void drawTranslucent() const;  // what the transmittance map holds
 };
 
 struct ShadowMap {
@@ -88,6 +152,8 @@ struct Frame {
                             // (common.glsl surfaceRadiance); the composite reads it
   GLuint lightTexture;      // 0 when the light has no texture
   GLuint uboId;             // FrameUniforms
+  const VolumesGpu* volumes;  // null without volume data
+  const TransmittanceMap* transmittance;  // null without semi-transparent occluders
   // Binds the frame's UBO, shadow map, light texture and G-buffer to the units in `bind`.
   void bindShared() const;
 };
@@ -125,6 +191,8 @@ class SharedPasses {
   gl::Buffer ubo_;
   ShadowMap shadow_;
   gl::Texture lightTexture_;
+  std::unique_ptr<VolumesGpu> volumes_;
+  std::unique_ptr<TransmittanceMap> transmittance_;
   gl::Sampler lightSampler_;
   gl::Texture gPosition_, gNormal_, gAlbedo_, depth_, direct_, inscatter_, final_;
   gl::Framebuffer gbufferFbo_, directFbo_, inscatterFbo_, finalFbo_;

@@ -49,6 +49,16 @@ Texture createTextureCube(GLenum internalFormat, int size) {
   return t;
 }
 
+Texture createTexture3D(GLenum internalFormat, int width, int height, int depth) {
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_3D, 1, &id);
+  glTextureStorage3D(id, 1, internalFormat, width, height, depth);
+  Texture t(id);
+  setFilter(id, GL_LINEAR, GL_LINEAR);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
 void setFilter(GLuint texture, GLenum minFilter, GLenum magFilter, GLenum wrap) {
   glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GLint(minFilter));
   glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GLint(magFilter));
@@ -378,6 +388,8 @@ Limits queryLimits() {
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &l.maxTexture3DSize);
   glGetIntegerv(GL_MAX_DRAW_BUFFERS, &l.maxDrawBuffers);
   glGetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &l.maxColorAttachments);
+  glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &l.maxFragmentTextureUnits);
+  glGetIntegerv(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS, &l.maxComputeTextureUnits);
   return l;
 }
 

@@ -62,6 +62,7 @@ using Sampler = Handle<deleteSampler>;
 Buffer createBuffer(size_t bytes, const void* data = nullptr, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
 Texture createTexture2D(GLenum internalFormat, int width, int height, int levels = 1);
 Texture createTextureCube(GLenum internalFormat, int size);
+Texture createTexture3D(GLenum internalFormat, int width, int height, int depth);
 Framebuffer createFramebuffer(std::initializer_list<std::pair<GLenum, GLuint>> attachments);
 // Throws GlError naming `what` when the framebuffer is incomplete.
 void checkFramebuffer(GLuint fbo, const char* what);
@@ -110,9 +111,17 @@ void drawFullscreenTriangle();
 // Frees objects owned by this module; the context calls it before it is destroyed.
 void releaseSharedObjects();
 
+// Loop iterations one shader invocation may run in total, over all its loops. llvmpipe (gallivm)
+// ends every loop of an invocation once 65,535 iterations have run in it altogether, silently;
+// shaders with nested loops (a march inside a march) split their work into passes that stay under
+// this budget (methods/raymarch/raymarch.cpp). Other drivers have no such limit; the passes cost
+// them little.
+constexpr int kShaderLoopBudget = 60000;
+
 struct Limits {
   int maxTextureSize = 0, maxCubeMapSize = 0, maxRenderbufferSize = 0, maxViewportW = 0, maxViewportH = 0;
   int maxTexture3DSize = 0, maxDrawBuffers = 0, maxColorAttachments = 0;
+  int maxFragmentTextureUnits = 0, maxComputeTextureUnits = 0;
 };
 Limits queryLimits();
 

@@ -35,7 +35,7 @@ class Tracer {
     if (!device_) throw std::runtime_error("Embree: cannot create a device");
     rtcScene_.reset(rtcNewScene(device_.get()));
     for (const Mesh& mesh : scene.meshes) {
-      if (mesh.indices.empty()) continue;
+      if (mesh.indices.empty() || mesh.opacity <= 0.0f) continue;  // cut-out meshes are not there
       RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                             3 * sizeof(float), mesh.positions.size()));
@@ -50,8 +50,13 @@ class Tracer {
       rtcCommitGeometry(g);
       unsigned id = rtcAttachGeometry(rtcScene_.get(), g);
       rtcReleaseGeometry(g);
-      if (albedo_.size() <= id) albedo_.resize(id + 1);
+      if (albedo_.size() <= id) {
+        albedo_.resize(id + 1);
+        crossing_.resize(id + 1);
+      }
       albedo_[id] = dvec3(mesh.albedo);
+      crossing_[id] = mesh.isOpaque() ? dvec3(0.0) : dvec3(mesh.crossingTransmittance());
+      anyTranslucent_ = anyTranslucent_ || !mesh.isOpaque();
     }
     rtcCommitScene(rtcScene_.get());
   }
@@ -83,6 +88,33 @@ class Tracer {
     return h;
   }
 
+  // Transmittance from origin along dir up to tfar: the product over every surface crossed (0 at
+  // the first opaque one), found by walking the hits in order (any-hit with exact ordering).
+  dvec3 transmittance(dvec3 origin, dvec3 dir, double tfar) const {
+    if (!anyTranslucent_) return occluded(origin, dir, tfar) ? dvec3(0.0) : dvec3(1.0);
+    dvec3 T(1.0);
+    double t = 0.0;
+    for (int crossings = 0; crossings < 1000000; ++crossings) {
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      RTCRayHit rh{};
+      setRay(rh.ray, origin, dir, t, tfar);
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(rtcScene_.get(), &context, &rh);
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+      T *= crossing_[rh.hit.geomID];
+      if (T == dvec3(0.0)) break;
+      // Step past this hit: the next float after it along the ray (coplanar layers each count once
+      // only when they are apart by more than that).
+      double hitT = rh.ray.tfar;
+      t = std::nextafter(float(hitT), std::numeric_limits<float>::infinity());
+      t = std::max(t, hitT * (1.0 + 1e-6));
+      if (t >= tfar) break;
+    }
+    return T;
+  }
+
   bool occluded(dvec3 origin, dvec3 dir, double tfar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -110,7 +142,8 @@ class Tracer {
   const Scene& scene_;
   std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
   std::unique_ptr<RTCSceneTy, SceneDeleter> rtcScene_;
-  std::vector<dvec3> albedo_;
+  std::vector<dvec3> albedo_, crossing_;
+  bool anyTranslucent_ = false;
 };
 
 struct LightModel {
@@ -146,19 +179,74 @@ struct LightModel {
     double len = glm::length(d);
     return len > 1e-20 ? d / len : direction;
   }
-  // Exact visibility of the light from x.
-  bool visible(const Tracer& tracer, dvec3 x) const {
-    if (scene.light.type == LightType::Directional) return !tracer.occluded(x, -direction, 1e30);
+  // The point the light comes from as seen from x (far away along -direction for directional lights).
+  dvec3 source(dvec3 x, double reach) const {
+    return scene.light.type == LightType::Directional ? x - direction * reach : position;
+  }
+  // Exact visibility of the light from x: 0 behind opaque geometry, the transmittance of the
+  // semi-transparent surfaces crossed otherwise.
+  dvec3 visible(const Tracer& tracer, dvec3 x) const {
+    if (scene.light.type == LightType::Directional) return tracer.transmittance(x, -direction, 1e30);
     dvec3 d = position - x;
     double r = glm::length(d);
-    if (r < 1e-12) return true;
-    return !tracer.occluded(x, d / r, r * (1.0 - 1e-6));
+    if (r < 1e-12) return dvec3(1.0);
+    return tracer.transmittance(x, d / r, r * (1.0 - 1e-6));
   }
   double phase(double cosTheta) const {
     if (scene.medium.phase != Phase::HenyeyGreenstein) return 1.0 / (4.0 * kPi);
     double g = scene.medium.g;
     double denom = std::max(1.0 + g * g - 2.0 * g * std::clamp(cosTheta, -1.0, 1.0), 1e-12);
     return (1.0 - g * g) / (4.0 * kPi * denom * std::sqrt(denom));
+  }
+};
+
+// Volume data in double precision: optical depth by Simpson's rule with 4 intervals per voxel
+// side along each box's segment (the trilinear density is smooth inside each voxel, so this is
+// quadrature at voxel resolution).
+struct VolumeModel {
+  const std::vector<Volume>& volumes;
+  explicit VolumeModel(const Scene& s) : volumes(s.volumes) {}
+  bool empty() const { return volumes.empty(); }
+
+  // (sigma_s, sigma_t) of the volumes at x.
+  glm::dvec2 coefficients(dvec3 x) const {
+    glm::dvec2 c(0.0);
+    for (const Volume& v : volumes) {
+      double d = double(v.densityAt(glm::vec3(x))) * v.densityScale;
+      c += d * glm::dvec2(v.sigmaS, v.sigmaT());
+    }
+    return c;
+  }
+
+  double opticalDepth(dvec3 a, dvec3 b) const {
+    double total = 0.0;
+    dvec3 d = b - a;
+    double len = glm::length(d);
+    if (len <= 0.0) return 0.0;
+    for (const Volume& v : volumes) {
+      double t0 = 0.0, t1 = 1.0;
+      for (int k = 0; k < 3; ++k) {
+        if (std::fabs(d[k]) < 1e-300) {
+          if (a[k] < v.boxLo[k] || a[k] > v.boxHi[k]) t1 = -1.0;
+          continue;
+        }
+        double ta = (v.boxLo[k] - a[k]) / d[k], tb = (v.boxHi[k] - a[k]) / d[k];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      if (t1 <= t0) continue;
+      glm::dvec3 voxel = (dvec3(v.boxHi) - dvec3(v.boxLo)) / dvec3(v.dims[0], v.dims[1], v.dims[2]);
+      double h = std::min({voxel.x, voxel.y, voxel.z}) / 4.0;
+      int n = std::max(2, int(std::ceil((t1 - t0) * len / h)));
+      n += n & 1;  // Simpson needs an even count
+      double dt = (t1 - t0) / n, sum = 0.0;
+      for (int i = 0; i <= n; ++i) {
+        double w = (i == 0 || i == n) ? 1.0 : (i & 1) ? 4.0 : 2.0;
+        sum += w * double(v.densityAt(glm::vec3(a + d * (t0 + i * dt))));
+      }
+      total += sum * dt / 3.0 * len * v.densityScale * v.sigmaT();
+    }
+    return total;
   }
 };
 
@@ -196,6 +284,12 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
   scene.bounds(lo, hi);
   double surfaceOffset = 1e-5 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo)));
   const double sigmaS = scene.medium.sigmaS, sigmaT = scene.medium.sigmaT();
+  VolumeModel volumes(scene);
+  const double reach = 4.0 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo))) + glm::length(dvec3(hi) + dvec3(lo));
+  // Transmittance of the volumes from x towards the light.
+  auto lightTransmittance = [&](dvec3 x) {
+    return volumes.empty() ? 1.0 : std::exp(-volumes.opticalDepth(x, light.source(x, reach)));
+  };
 
   GroundTruth out;
   out.inscatter = Image(W, H);
@@ -222,7 +316,8 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
         }
         double d = hit.hit ? hit.t : farDist;
         dvec3 Ls(0.0);
-        if (sigmaS > 0.0) {
+        double viewDepth = 0.0;  // optical depth of the volumes along the camera ray so far
+        if (sigmaS > 0.0 || !volumes.empty()) {
           // Stratified samples, equiangular from point and spot lights (the weight r^2 cancels
           // L_in's 1/r^2, so rays passing close to the light are integrated as well as the rest).
           bool angular = scene.light.type != LightType::Directional;
@@ -231,6 +326,7 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
           double D = std::max(glm::length(toLight - delta * dir), 1e-9 * std::max(d, 1.0));
           double thetaA = std::atan2(-delta, D), thetaB = std::atan2(d - delta, D);
           double offset = (hash32(uint32_t(x) * 73856093u ^ uint32_t(y) * 19349663u ^ options.seed) >> 8) / 16777216.0;
+          double sPrev = 0.0;
           for (int i = 0; i < N; ++i) {
             double u = (i + std::fmod(offset + i * 0.61803398875, 1.0)) / N;
             double s, weight;
@@ -242,20 +338,30 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
               weight = d / N;
             }
             dvec3 xs = eye + dir * s;
-            if (!light.visible(tracer, xs)) continue;
-            Ls += weight * std::exp(-sigmaT * s) * light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
+            double scattering = sigmaS;
+            if (!volumes.empty()) {
+              viewDepth += volumes.opticalDepth(eye + dir * sPrev, xs);
+              sPrev = s;
+              scattering += volumes.coefficients(xs).x;
+            }
+            if (scattering <= 0.0) continue;
+            dvec3 V = light.visible(tracer, xs);
+            if (V == dvec3(0.0)) continue;
+            Ls += weight * scattering * std::exp(-sigmaT * s - viewDepth) * lightTransmittance(xs) * V *
+                  light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
           }
-          Ls *= sigmaS;
+          if (!volumes.empty()) viewDepth += volumes.opticalDepth(eye + dir * sPrev, eye + dir * d);
         }
         dvec3 surface(0.0);
         if (hit.hit) {
           dvec3 xs = eye + dir * d;
           dvec3 toLight = -light.travelDir(xs);
           double cosine = std::max(glm::dot(hit.normal, toLight), 0.0);
-          if (cosine > 0.0 && light.visible(tracer, xs + hit.normal * surfaceOffset))
-            surface = hit.albedo / kPi * light.incident(xs) * cosine;
+          if (cosine > 0.0)
+            surface = hit.albedo / kPi * light.incident(xs) * cosine * lightTransmittance(xs) *
+                      light.visible(tracer, xs + hit.normal * surfaceOffset);
         }
-        dvec3 L = surface * std::exp(-sigmaT * d) + Ls;
+        dvec3 L = surface * std::exp(-sigmaT * d - viewDepth) + Ls;
         for (int c = 0; c < 3; ++c) {
           out.inscatter.at(x, y)[c] = float(Ls[c]);
           out.final.at(x, y)[c] = float(L[c]);

@@ -437,6 +437,45 @@ Mesh makeTerrain(const TerrainParams& p) {
   return builder.take();
 }
 
+Mesh makeLeafCards(const LeafCardsParams& p) {
+  MeshBuilder builder("leaf_cards");
+  builder.reserve(size_t(p.count) * 4, size_t(p.count) * 2);
+  Random random(p.seed);
+  for (int i = 0; i < p.count; ++i) {
+    // A point inside the unit ball by rejection, scaled to the crown.
+    glm::vec3 q;
+    do {
+      q = glm::vec3(random.symmetric(), random.symmetric(), random.symmetric());
+    } while (glm::dot(q, q) > 1.0f);
+    glm::vec3 c = p.center + q * p.radius;
+    glm::vec3 n;
+    do {
+      n = glm::vec3(random.symmetric(), random.symmetric(), random.symmetric());
+    } while (glm::dot(n, n) > 1.0f || glm::dot(n, n) < 1e-4f);
+    n = glm::normalize(n);
+    glm::vec3 t = glm::normalize(glm::cross(n, std::fabs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0)));
+    glm::vec3 b = glm::cross(n, t);
+    float h = 0.5f * p.size;
+    uint32_t a = builder.vertex(c - h * t - h * b, n), bb = builder.vertex(c + h * t - h * b, n);
+    uint32_t cc = builder.vertex(c + h * t + h * b, n), d = builder.vertex(c - h * t + h * b, n);
+    builder.quad(a, bb, cc, d);
+  }
+  return builder.take();
+}
+
+Mesh makeLayers(const LayersParams& p) {
+  MeshBuilder builder("layers");
+  builder.reserve(size_t(p.count) * 4, size_t(p.count) * 2);
+  float h = 0.5f * p.size;
+  for (int i = 0; i < p.count; ++i) {
+    glm::vec3 c = p.center + glm::vec3(0.0f, float(i) * p.spacing, 0.0f), n(0, 1, 0);
+    uint32_t a = builder.vertex(c + glm::vec3(-h, 0, -h), n), b = builder.vertex(c + glm::vec3(-h, 0, h), n);
+    uint32_t cc = builder.vertex(c + glm::vec3(h, 0, h), n), d = builder.vertex(c + glm::vec3(h, 0, -h), n);
+    builder.quad(a, b, cc, d);
+  }
+  return builder.take();
+}
+
 Mesh makeTriangle(const TriangleParams& p) {
   Mesh mesh;
   mesh.name = "triangle";
@@ -671,6 +710,27 @@ Mesh triangleFromJson(ObjectReader& params) {
   return makeTriangle(p);
 }
 
+Mesh leafCardsFromJson(ObjectReader& params) {
+  LeafCardsParams p;
+  p.center = params.vec3("center", p.center, kAny);
+  p.radius = params.vec3("radius", p.radius, kPositive);
+  p.count = readInt(params, "count", p.count, 1, 1000000);
+  p.size = readFloat(params, "size", p.size, kPositive);
+  p.seed = uint32_t(params.integer("seed", p.seed, 0, kMaxSeed));
+  params.finish();
+  return makeLeafCards(p);
+}
+
+Mesh layersFromJson(ObjectReader& params) {
+  LayersParams p;
+  p.center = params.vec3("center", p.center, kAny);
+  p.size = readFloat(params, "size", p.size, kPositive);
+  p.count = readInt(params, "count", p.count, 1, 100000);
+  p.spacing = readFloat(params, "spacing", p.spacing, Range::atLeast(0.0));
+  params.finish();
+  return makeLayers(p);
+}
+
 struct GeneratorEntry {
   const char* name;
   Mesh (*build)(ObjectReader&);
@@ -682,7 +742,8 @@ const GeneratorEntry kGenerators[] = {
     {"torus_knot", torusKnotFromJson}, {"room", roomFromJson},
     {"chainlink_fence", fenceFromJson}, {"tree", treeFromJson},
     {"forest", forestFromJson},     {"terrain", terrainFromJson},
-    {"triangle", triangleFromJson},
+    {"triangle", triangleFromJson}, {"leaf_cards", leafCardsFromJson},
+    {"layers", layersFromJson},
 };
 
 }  // namespace

@@ -129,6 +129,23 @@ Mesh makeForest(const ForestParams& p);
 Mesh makeTerrain(const TerrainParams& p);
 Mesh makeTriangle(const TriangleParams& p);
 
+struct LeafCardsParams {     // square cards scattered in an ellipsoidal crown, random orientations
+  glm::vec3 center{0.0f, 3.0f, 0.0f};
+  glm::vec3 radius{1.5f};    // crown half-extents
+  int count = 400;
+  float size = 0.3f;         // card side
+  uint32_t seed = 1;
+};
+Mesh makeLeafCards(const LeafCardsParams& p);
+
+struct LayersParams {        // `count` horizontal squares stacked `spacing` apart, lowest at center
+  glm::vec3 center{0.0f};
+  float size = 2.0f;
+  int count = 10;
+  float spacing = 0.01f;
+};
+Mesh makeLayers(const LayersParams& p);
+
 // Names accepted by generateMeshes, in documentation order.
 const std::vector<std::string>& generatorNames();
 

@@ -116,7 +116,7 @@ struct Scene {
   size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
 
   size_t triangleCount() const;
-  // Axis-aligned bounds of all geometry; a unit box around the origin when empty.
+  // Axis-aligned bounds of all geometry and volume boxes; a unit box around the origin when empty.
   void bounds(glm::vec3& lo, glm::vec3& hi) const;
 };
 

@@ -33,6 +33,11 @@ void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
       any = true;
     }
   }
+  for (const Volume& v : volumes) {
+    lo = glm::min(lo, v.boxLo);
+    hi = glm::max(hi, v.boxHi);
+    any = true;
+  }
   if (!any) {  // unit box (side 1) centred on the origin
     lo = glm::vec3(-0.5f);
     hi = glm::vec3(0.5f);

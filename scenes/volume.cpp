@@ -121,15 +121,17 @@ void generateVolume(Volume& v, const std::string& generator, float scale, uint32
 
 Volume readVolume(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher) {
   Volume v;
-  entry.declare({"name", "raw", "type", "dims", "header_bytes", "generator", "scale", "seed", "box_min", "box_max",
-                 "density_scale", "sigma_s", "sigma_a"});
+  entry.declare({"name", "raw", "type", "dims", "header_bytes", "generator", "scale", "seed", "density", "box_min",
+                 "box_max", "density_scale", "sigma_s", "sigma_a"});
   v.name = entry.string("name", "");
-  bool isRaw = entry.has("raw"), isGenerator = entry.has("generator");
-  if (isRaw && isGenerator) entry.fail("generator", "a volume has either 'raw' or 'generator', not both");
-  if (!isRaw && !isGenerator) {
+  bool isRaw = entry.has("raw"), isGenerator = entry.has("generator"), isInline = entry.has("density");
+  if (int(isRaw) + int(isGenerator) + int(isInline) > 1)
+    entry.fail(isGenerator ? "generator" : "density", "a volume has one of 'raw', 'generator' or 'density'");
+  if (!isRaw && !isGenerator && !isInline) {
     entry.failOnMisspellingOf("raw");
     entry.failOnMisspellingOf("generator");
-    entry.fail("raw", "missing: a volume needs a 'raw' file or a 'generator'");
+    entry.failOnMisspellingOf("density");
+    entry.fail("raw", "missing: a volume needs a 'raw' file, a 'generator' or inline 'density' values");
   }
   v.boxLo = entry.vec3("box_min", Range::any());
   v.boxHi = entry.vec3("box_max", Range::any());
@@ -161,6 +163,23 @@ Volume readVolume(ObjectReader entry, const std::string& baseDir, ContentHasher&
     return v;
   }
   for (const char* key : {"scale", "seed"}) entry.forbid(key, "only used by generated volumes");
+  if (isInline) {
+    // Small grids written out in the scene: "dims" and x-fastest "density" values.
+    for (const char* key : {"type", "header_bytes"}) entry.forbid(key, "only used by raw volumes");
+    const Json& dims = entry.required("dims");
+    JsonLocation dimsAt = entry.locationOf("dims");
+    if (!dims.is_array() || dims.size() != 3) dimsAt.fail("expected [x, y, z]");
+    for (int k = 0; k < 3; ++k) v.dims[k] = int(readInteger(dims[k], dimsAt.item(k), 1, 64));
+    const Json& values = entry.required("density");
+    JsonLocation valuesAt = entry.locationOf("density");
+    if (!values.is_array() || values.size() != v.voxelCount())
+      valuesAt.fail("expected an array of dims x * y * z = " + std::to_string(v.voxelCount()) + " densities");
+    entry.finish();
+    for (size_t i = 0; i < v.voxelCount(); ++i)
+      v.density.push_back(float(readNumber(values[i], valuesAt.item(i), Range::closed(0.0, 1e6))));
+    if (v.name.empty()) v.name = "inline";
+    return v;
+  }
   std::string file = entry.string("raw");
   if (file.empty()) entry.fail("raw", "must not be empty");
   std::string type = entry.choice("type", {"u8", "u16", "f32"}, "");

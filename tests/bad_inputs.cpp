@@ -44,6 +44,22 @@ const std::vector<BadInput>& badInputs() {
        "--frames 0"},
       {"unknown_reference_method", {"run", "--scene", "spheres", "--method", "raymarch", "--reference", "nosuch:steps=1"},
        "nosuch", "--reference naming an unknown method"},
+      {"raw_volume_too_short", {"run", "--scene", "%DIR%/short-volume.json", "--method", "raymarch"}, "need 64",
+       "raw volume file shorter than dims x voxel size"},
+      {"raw_volume_too_long", {"run", "--scene", "%DIR%/long-volume.json", "--method", "raymarch"}, "need 4",
+       "raw volume file longer than dims x voxel size"},
+      {"unknown_voxel_type", {"run", "--scene", "%DIR%/u12-volume.json", "--method", "raymarch"}, "u12",
+       "raw volume of an unknown voxel type"},
+      {"volume_dims_zero", {"run", "--scene", "%DIR%/zero-volume.json", "--method", "raymarch"}, "dims[1]",
+       "raw volume with a dimension of 0"},
+      {"nan_density", {"run", "--scene", "%DIR%/nan-volume.json", "--method", "raymarch"}, "nan",
+       "NaN density in a float volume file"},
+      {"too_many_volumes", {"run", "--scene", "%DIR%/five-volumes.json", "--method", "raymarch"}, "at most 4",
+       "more volumes than texture units are set aside for"},
+      {"opacity_out_of_range", {"run", "--scene", "%DIR%/opacity.json", "--method", "raymarch"}, "opacity",
+       "geometry opacity outside [0, 1]"},
+      {"area_light_size_zero", {"run", "--scene", "%DIR%/flat-light.json", "--method", "raymarch"}, "light.width",
+       "rect light of width 0"},
       {"unwritable_output", {"run", "--scene", "spheres", "--method", "raymarch", "--out", "%DIR%/a-file/results"},
        "a-file/results", "--out below a regular file (cannot be created)"},
   };
@@ -66,6 +82,24 @@ void writeBadInputFixtures(const std::string& dir) {
   writeFile(dir + "/truncated-gltf.json", R"({"geometry": [{"gltf": "truncated.gltf"}], )" + camera +
                                                R"(, "light": {"type": "point", "position": [0, 3, 0], "intensity": 1}})");
   writeFile(dir + "/a-file", "not a folder");
+  const std::string light = R"("light": {"type": "point", "position": [0, 3, 0], "intensity": 1})";
+  auto volumeScene = [&](const std::string& volume) {
+    return R"({"geometry": [], )" + camera + ", " + light + R"(, "volumes": [)" + volume + "]}";
+  };
+  const std::string box = R"("box_min": [-1, 0, -1], "box_max": [1, 2, 1])";
+  writeFile(dir + "/eight-bytes.raw", std::string(8, '\x01'));
+  writeFile(dir + "/short-volume.json", volumeScene(R"({"raw": "eight-bytes.raw", "type": "u8", "dims": [4, 4, 4], )" + box + "}"));
+  writeFile(dir + "/long-volume.json", volumeScene(R"({"raw": "eight-bytes.raw", "type": "u8", "dims": [2, 2, 1], )" + box + "}"));
+  writeFile(dir + "/u12-volume.json", volumeScene(R"({"raw": "eight-bytes.raw", "type": "u12", "dims": [2, 2, 2], )" + box + "}"));
+  writeFile(dir + "/zero-volume.json", volumeScene(R"({"raw": "eight-bytes.raw", "type": "u8", "dims": [2, 0, 2], )" + box + "}"));
+  writeFile(dir + "/nan.raw", std::string("\x00\x00\xc0\x7f", 4));  // a quiet NaN, little endian
+  writeFile(dir + "/nan-volume.json", volumeScene(R"({"raw": "nan.raw", "type": "f32", "dims": [1, 1, 1], )" + box + "}"));
+  std::string five;
+  for (int i = 0; i < 5; ++i) five += std::string(i ? ", " : "") + R"({"dims": [1, 1, 1], "density": [1], )" + box + "}";
+  writeFile(dir + "/five-volumes.json", volumeScene(five));
+  writeFile(dir + "/opacity.json", R"({"geometry": [{"generator": "plane", "opacity": 2}], )" + camera + ", " + light + "}");
+  writeFile(dir + "/flat-light.json", R"({"geometry": [], )" + camera +
+                                          R"(, "light": {"type": "rect", "position": [0, 3, 0], "direction": [0, -1, 0], "width": 0, "height": 1, "intensity": 1}})");
 }
 
 std::vector<std::string> badInputArgs(const BadInput& bad, const std::string& dir) {

@@ -134,6 +134,48 @@ std::vector<HardCase> build() {
   s["camera"]["target"] = vec(off, 1, off);
   s["light"]["position"] = vec(off, 3, -2 + off);
   cases.push_back(make("coordinates_1e5", s));
+
+  // Volume data (methods without it are Unsupported here and skip).
+  auto withVolume = [](json volume) {
+    json v = baseScene();
+    v["volumes"] = json::array({volume});
+    return v;
+  };
+  json bucky = {{"generator", "bucky"}, {"box_min", vec(-1.5, 0.2, -1)}, {"box_max", vec(0.5, 2.2, 1)}, {"sigma_s", 2.0}, {"sigma_a", 0.2}};
+  cases.push_back(make("volume_in_view", withVolume(bucky)));
+  json around = bucky;
+  around["box_min"] = vec(-2, 0.5, 3);
+  around["box_max"] = vec(2, 2.5, 8);
+  cases.push_back(make("camera_inside_volume", withVolume(around)));
+  json nearPlane = bucky;
+  nearPlane["box_min"] = vec(-1, 1, 4);
+  nearPlane["box_max"] = vec(1, 2, 5.95);  // the camera's near plane is at z = 5.95
+  cases.push_back(make("volume_touching_near_plane", withVolume(nearPlane)));
+  json empty = bucky;
+  empty["density_scale"] = 0.0;
+  cases.push_back(make("volume_density_zero", withVolume(empty)));
+  std::vector<double> spike(27, 0.0);
+  spike[13] = 1e4;
+  json dense = {{"dims", {3, 3, 3}}, {"density", spike}, {"box_min", vec(-0.5, 1, -0.5)}, {"box_max", vec(0.5, 2, 0.5)},
+                {"sigma_s", 1.0}, {"sigma_a", 0.1}};
+  cases.push_back(make("volume_one_voxel_density_1e4", withVolume(dense), true));
+  json single = {{"dims", {1, 1, 1}}, {"density", {0.5}}, {"box_min", vec(-2, 0, -2)}, {"box_max", vec(2, 2, 0)},
+                 {"sigma_s", 0.5}, {"sigma_a", 0.1}};
+  cases.push_back(make("volume_1x1x1", withVolume(single)));
+
+  // Semi-transparent occluders (methods without them skip).
+  for (double opacity : {0.0, 0.5, 1.0}) {
+    s = baseScene();
+    s["geometry"][1]["opacity"] = opacity;  // the box
+    s["geometry"][2]["opacity"] = opacity;  // the sphere
+    cases.push_back(make(opacity == 0.0 ? "opacity_0" : opacity == 1.0 ? "opacity_1_declared" : "opacity_half", s));
+  }
+  s = baseScene();
+  s["geometry"].push_back({{"generator", "layers"},
+                           {"params", {{"center", vec(0.3, 0.6, -1.2)}, {"size", 0.6}, {"count", 1000}, {"spacing", 0.0005}}},
+                           {"opacity", 0.01},
+                           {"transmittance_color", vec(0.5, 0.3, 0.1)}});
+  cases.push_back(make("1000_stacked_layers", s));
   return cases;
 }
 }  // namespace

@@ -94,7 +94,7 @@ TEST(ShaderSourceTest, IncludesAreExpandedAndEveryLineKnowsItsFile) {
   while (std::getline(in, line)) {
     ++n;
     if (line.find("outRadiance = vec4(surfaceRadiance") != std::string::npos) {
-      EXPECT_EQ(pre.locate(n), "harness/shaders/direct.frag:7");
+      EXPECT_EQ(pre.locate(n), "harness/shaders/direct.frag:13");
       sawMain = true;
     }
     if (line.find("float phase(float cosTheta)") != std::string::npos) {

@@ -122,6 +122,55 @@ float shadowVisibility(vec3 x) {
   return texture(shadowMap2D, vec3(st, clamp(ndc.z * 0.5 + 0.5, 0.0, 1.0)));
 }
 
+// ---- semi-transparent occluders (VS_TRANSLUCENT, from sceneDefines)
+#ifndef VS_TRANSLUCENT
+#define VS_TRANSLUCENT 0
+#endif
+#if VS_TRANSLUCENT
+layout(std140, binding = 2) uniform TransmittanceBlock {
+  mat4 faceViewProj[6];
+  vec4 params;  // size, faces, light type, longest list
+} tm;
+layout(binding = 7, r32ui) readonly uniform uimage2DArray transmittanceHeads;
+struct TransmittanceNode {
+  vec4 data;   // rgb transmittance of the crossing, w distance from the light
+  uvec4 link;  // x next node
+};
+layout(std430, binding = 7) readonly buffer TransmittanceNodes { TransmittanceNode transmittanceNodes[]; };
+
+// Transmittance of every semi-transparent crossing between the light and x (1 without any), read
+// from x's light texel: the product over the crossings nearer the light than x by more than `bias`.
+vec3 translucentTransmittance(vec3 x, float bias) {
+  // One exit and no break: this runs inside the methods' sample loops (see raymarch.frag).
+  int face = 0;
+  if (tm.params.y > 1.5) {  // cube faces +x, -x, +y, -y, +z, -z
+    vec3 d = x - u.lightPos.xyz;
+    vec3 a = abs(d);
+    int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    face = 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+  }
+  vec4 p = tm.faceViewProj[face] * vec4(x, 1.0);
+  vec2 st = p.xy / max(p.w, 1e-20) * 0.5 + 0.5;
+  bool inside = p.w > 1e-20 && all(greaterThanEqual(st, vec2(0.0))) && all(lessThan(st, vec2(1.0)));
+  ivec2 texel = clamp(ivec2(st * tm.params.x), ivec2(0), ivec2(int(tm.params.x) - 1));
+  float dist = lightType() == LIGHT_DIRECTIONAL ? dot(x, u.lightDir.xyz) : length(x - u.lightPos.xyz);
+  vec3 T = vec3(1.0);
+  uint node = inside ? imageLoad(transmittanceHeads, ivec3(texel, face)).r : 0xFFFFFFFFu;
+  // A trip count the same for every invocation (the longest list): a loop whose exit depends on
+  // per-invocation data, nested in the callers' sample loops, ended those loops early for some
+  // invocations on llvmpipe (Mesa 22.3).
+  int longest = int(tm.params.w);
+  for (int k = 0; k < longest; ++k) {
+    if (node != 0xFFFFFFFFu) {
+      vec4 crossing = transmittanceNodes[node].data;
+      node = transmittanceNodes[node].link.x;
+      T *= crossing.w < dist - bias ? crossing.rgb : vec3(1.0);
+    }
+  }
+  return T;
+}
+#endif
+
 // World size of one shadow-map texel at x (for normal-offset surface lookups).
 float shadowTexelWorldSize(vec3 x) {
   float size = max(u.shadowParams.z, 1.0);
@@ -131,10 +180,21 @@ float shadowTexelWorldSize(vec3 x) {
   return 2.0 * halfTan * dist / size;
 }
 
+// Visibility of the light from x in the medium, per channel: the shadow map times the
+// transmittance of semi-transparent occluders (volume data is marched by the methods).
+vec3 lightVisibility(vec3 x) {
+  vec3 v = vec3(shadowVisibility(x));
+#if VS_TRANSLUCENT
+  float scale = lightType() == LIGHT_DIRECTIONAL ? length(x) : length(x - u.lightPos.xyz);
+  v *= translucentTransmittance(x, 1e-4 * scale + 1e-5);
+#endif
+  return v;
+}
+
 // Lambert surface radiance at a G-buffer pixel for a given light visibility (0 on sky pixels).
 // Direct Lighting uses shadow-map visibility; a method with surface shadows of its own re-shades
 // with its visibility through the same function.
-vec3 surfaceRadiance(ivec2 pixel, float visibility) {
+vec3 surfaceRadiance(ivec2 pixel, vec3 visibility) {
   vec4 n = texelFetch(gNormal, pixel, 0);
   if (n.w < 0.5) return vec3(0.0);
   vec3 x = texelFetch(gPosition, pixel, 0).xyz;
@@ -143,12 +203,28 @@ vec3 surfaceRadiance(ivec2 pixel, float visibility) {
   return albedo / PI * lightIncident(x) * cosine * visibility;
 }
 
+vec3 surfaceRadiance(ivec2 pixel, float visibility) { return surfaceRadiance(pixel, vec3(visibility)); }
+
 // Shadow-map visibility of the surface at a G-buffer pixel, with a normal offset against acne.
 float surfaceShadowVisibility(ivec2 pixel) {
   vec4 n = texelFetch(gNormal, pixel, 0);
   vec3 x = texelFetch(gPosition, pixel, 0).xyz;
   if (n.w < 0.5 || dot(n.xyz, -lightTravelDir(x)) <= 0.0) return 0.0;
   return shadowVisibility(x + n.xyz * 1.5 * shadowTexelWorldSize(x));
+}
+
+// The same, times the transmittance of semi-transparent occluders in front of the surface (its
+// own crossing excluded by a bias of two light texels).
+vec3 surfaceLightVisibility(ivec2 pixel) {
+  float v = surfaceShadowVisibility(pixel);
+#if VS_TRANSLUCENT
+  if (v > 0.0) {
+    vec3 x = texelFetch(gPosition, pixel, 0).xyz;
+    float scale = lightType() == LIGHT_DIRECTIONAL ? length(x) : length(x - u.lightPos.xyz);
+    return v * translucentTransmittance(x, 2.0 * shadowTexelWorldSize(x) + 1e-4 * scale);
+  }
+#endif
+  return vec3(v);
 }
 
 // Camera ray through a pixel of the G-buffer: unit direction and distance to the first hit
@@ -160,6 +236,80 @@ void cameraRay(ivec2 pixel, out vec3 dir, out float dist) {
   dir = len > 1e-20 ? d / len : u.cameraForward.xyz;
   dist = max(p.w, 0.0);
 }
+
+// ---- volume data (VS_VOLUMES = number of volumes, from sceneDefines)
+#ifndef VS_VOLUMES
+#define VS_VOLUMES 0
+#endif
+#if VS_VOLUMES > 0
+layout(std140, binding = 1) uniform VolumeBlock {
+  ivec4 count;
+  vec4 boxLo[4];
+  vec4 boxHi[4];
+  vec4 coeff[4];  // sigma_s, sigma_t per unit density (times density_scale), max density, smallest voxel side
+} vol;
+layout(binding = 16) uniform sampler3D volumeDensity[4];
+
+// Density of volume i at x: trilinear between voxel centres, 0 outside its box.
+float volumeDensityAt(int i, vec3 x) {
+  vec3 f = (x - vol.boxLo[i].xyz) / max(vol.boxHi[i].xyz - vol.boxLo[i].xyz, vec3(1e-30));
+  if (any(lessThan(f, vec3(0.0))) || any(greaterThan(f, vec3(1.0)))) return 0.0;
+  return textureLod(volumeDensity[i], f, 0.0).r;
+}
+
+// (sigma_s, sigma_t) of all volumes at x.
+vec2 volumeCoefficients(vec3 x) {
+  vec2 c = vec2(0.0);
+  for (int i = 0; i < VS_VOLUMES; ++i) c += volumeDensityAt(i, x) * vol.coeff[i].xy;
+  return c;
+}
+
+// Ray parameters [t0, t1] of the segment of a + t (b - a), t in [0, 1], inside volume i's box
+// (t0 >= t1 when it misses).
+vec2 volumeSegment(int i, vec3 a, vec3 b) {
+  vec3 d = b - a;
+  vec3 inv = 1.0 / mix(d, vec3(1e-30), lessThan(abs(d), vec3(1e-30)));
+  vec3 tLo = (vol.boxLo[i].xyz - a) * inv, tHi = (vol.boxHi[i].xyz - a) * inv;
+  vec3 tMin = min(tLo, tHi), tMax = max(tLo, tHi);
+  return vec2(max(max(tMin.x, tMin.y), max(tMin.z, 0.0)), min(min(tMax.x, tMax.y), min(tMax.z, 1.0)));
+}
+
+// Optical depth of the volumes between a and b: midpoint rule over each box's segment with
+// `stepsPerVoxel` steps per smallest voxel side (at most maxSteps per volume). `offset` in [0, 1)
+// shifts the midpoints (jitter).
+float volumeOpticalDepth(vec3 a, vec3 b, float stepsPerVoxel, int maxSteps, float offset) {
+  float depth = 0.0;
+  float len = length(b - a);
+  for (int i = 0; i < VS_VOLUMES; ++i) {
+    vec2 seg = volumeSegment(i, a, b);
+    float inside = max(seg.y - seg.x, 0.0) * len;
+    // maxSteps 0 skips the march (callers use it so that lanes with nothing to do add no iterations).
+    int n = inside > 0.0 && vol.coeff[i].z > 0.0
+                ? min(max(int(ceil(min(inside * stepsPerVoxel / max(vol.coeff[i].w, 1e-30), 1e6))), 1), maxSteps)
+                : 0;
+    float dt = (seg.y - seg.x) / float(max(n, 1));
+    float sum = 0.0;
+    for (int k = 0; k < n; ++k) sum += volumeDensityAt(i, mix(a, b, seg.x + (float(k) + offset) * dt));
+    depth += sum * vol.coeff[i].y * dt * len;
+  }
+  return depth;
+}
+
+// Transmittance of the volumes from x towards the light (to the light's position, or out of every
+// box along the light's direction for directional lights).
+float volumeLightTransmittance(vec3 x, float stepsPerVoxel, int maxSteps, float offset) {
+  vec3 target;
+  if (lightType() == LIGHT_DIRECTIONAL) {
+    float reach = 0.0;
+    for (int i = 0; i < VS_VOLUMES; ++i)
+      reach = max(reach, length(max(abs(x - vol.boxLo[i].xyz), abs(x - vol.boxHi[i].xyz))));
+    target = x - u.lightDir.xyz * (reach * 1.001 + 1e-3);
+  } else {
+    target = u.lightPos.xyz;
+  }
+  return exp(-volumeOpticalDepth(x, target, stepsPerVoxel, maxSteps, offset));
+}
+#endif
 
 // Deterministic hash -> [0, 1) (PCG).
 uint pcgHash(uint v) {

@@ -17,10 +17,19 @@ class RaymarchMethod : public Method {
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
 
  private:
+  // The passes one frame needs so that no invocation exceeds the loop budget.
+  int stepsPerPass(const Frame& frame) const;
   gl::Program program_;
+  gl::Texture opticalDepth_[2];       // volume data: the camera ray's optical depth between passes
+  gl::Framebuffer passFbo_[2];
+  GLuint fboInscatter_ = 0;           // the in-scatter texture passFbo_ was made for
+  bool volumes_ = false;
+  int lightStepsMax_ = 512;
+  int passes_ = 1;
   int steps_ = 0;
   bool jitter_ = true;
   bool equiangular_ = false;
+  float volumeStepsPerVoxel_ = 1.0f;
   int width_ = 0, height_ = 0;
 };
 

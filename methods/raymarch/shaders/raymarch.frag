@@ -6,12 +6,26 @@
 //  - equiangular: (point and spot lights) s_i spaced evenly in the angle seen from the light,
 //    s = delta + D tan(theta), weight (theta_b - theta_a) r^2 / (D N): it cancels the 1/r^2 of
 //    L_in, so rays passing close to the light converge as fast as the others.
+// Volume data: sigma_s(x), the camera ray's optical depth (trapezoid rule between samples) and the
+// volumes' transmittance towards the light by a nested march. Semi-transparent occluders: V is
+// the transmittance map's product (common.glsl). This pass marches samples [firstStep, lastStep):
+// the method splits long marches into several passes (raymarch.cpp, "loop budget").
 #include "common.glsl"
 layout(location = 0) uniform int steps;
 layout(location = 1) uniform int jitter;
+layout(location = 2) uniform float volumeStepsPerVoxel;  // light-ray steps per voxel through volume data
+layout(location = 3) uniform int firstStep;
+layout(location = 4) uniform int lastStep;
+layout(location = 5) uniform int lightStepsMax;          // per volume and sample
 // EQUIANGULAR is defined by the method at build time (0 or 1): a uniform would cost a branch per
 // step, which llvmpipe does not hoist.
 layout(location = 0) out vec4 outInscatter;
+#if VS_VOLUMES > 0
+// The camera ray's optical depth carried from pass to pass: x tau up to the previous sample, y its
+// distance, z sigma_t there.
+layout(binding = 10) uniform sampler2D opticalDepthIn;
+layout(location = 1) out vec4 outOpticalDepth;
+#endif
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 dir;
@@ -32,7 +46,18 @@ void main() {
     thetaB = atan(dist - delta, D);
   }
   vec3 sum = vec3(0.0);
-  for (int i = 0; i < n; ++i) {
+#if VS_VOLUMES > 0
+  float tau = 0.0, sPrev = 0.0, sigmaTPrev = 0.0;
+  if (firstStep == 0) {
+    sigmaTPrev = volumeCoefficients(eye).y;
+  } else {
+    vec3 carried = texelFetch(opticalDepthIn, pixel, 0).xyz;
+    tau = carried.x;
+    sPrev = carried.y;
+    sigmaTPrev = carried.z;
+  }
+#endif
+  for (int i = firstStep; i < lastStep; ++i) {
     float ui = (float(i) + (jitter != 0 ? fract(pixelOffset + float(i) * goldenRatio) : 0.5)) / float(n);
     float s, weight;
     if (angular) {
@@ -45,10 +70,28 @@ void main() {
       weight = dist / float(n);
     }
     vec3 x = eye + dir * s;
-    float visibility = shadowVisibility(x);
-    if (visibility <= 0.0) continue;
+    vec3 visibility = lightVisibility(x);
     float cosTheta = dot(lightTravelDir(x), -dir);
-    sum += weight * exp(-sigmaT() * s) * visibility * phase(cosTheta) * lightIncident(x);
+#if VS_VOLUMES > 0
+    vec2 c = volumeCoefficients(x);
+    tau += 0.5 * (sigmaTPrev + c.y) * (s - sPrev);
+    sPrev = s;
+    sigmaTPrev = c.y;
+    float scattering = sigmaS() + c.x;
+    // Nested march towards the light, only where this sample scatters and is not in a shadow.
+    int lightSteps = scattering > 0.0 && any(greaterThan(visibility, vec3(0.0))) ? lightStepsMax : 0;
+    float offset = jitter != 0 ? fract(pixelOffset + float(i) * 0.7548776662) : 0.5;
+    visibility *= volumeLightTransmittance(x, volumeStepsPerVoxel, lightSteps, offset);
+    sum += weight * scattering * exp(-sigmaT() * s - tau) * visibility * phase(cosTheta) * lightIncident(x);
+#else
+    sum += weight * sigmaS() * exp(-sigmaT() * s) * visibility * phase(cosTheta) * lightIncident(x);
+#endif
   }
-  outInscatter = vec4(sum * sigmaS(), 1.0);
+#if VS_VOLUMES > 0
+  outOpticalDepth = vec4(tau, sPrev, sigmaTPrev, 0.0);
+  float tauTotal = tau + (lastStep >= n ? sigmaTPrev * max(dist - sPrev, 0.0) : 0.0);
+  outInscatter = vec4(sum, exp(-tauTotal));
+#else
+  outInscatter = vec4(sum, 1.0);
+#endif
 }
