@@ -88,7 +88,10 @@ struct Job {
 
 int listCommand(const MethodRegistry& registry) {
   std::printf("Scenes (built in; or pass a path to a scene .json):\n");
-  for (const auto& s : builtinScenes()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
+  for (const auto& s : builtinScenes()) {
+    std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
+    std::printf("  %-10s effects: %s\n", "", deriveEffects(loadScene(s.name)).describe().c_str());
+  }
   std::printf("\nMethods (spec: name:key=value:key=value):\n");
   for (const auto& info : registry) {
     auto m = info.create();

@@ -39,6 +39,13 @@ std::string sceneDefines(const Effects& effects) {
          std::to_string(effects.anisotropic ? 1 : 0) + "\n";
 }
 
+glm::mat4 cubeFaceViewProj(const glm::vec3& position, int face, float nearZ, float farZ) {
+  static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  glm::mat4 proj = glm::perspective(glm::radians(90.0f), 1.0f, nearZ, farZ);
+  return proj * glm::lookAt(position, position + axes[face], ups[face]);
+}
+
 // ---- volumes
 
 std::string volumeLimitProblem(const Scene& scene, const gl::Limits& limits) {
@@ -295,7 +302,8 @@ SharedPasses::SharedPasses(const Scene& scene, const SceneGpu& geometry, const E
 void SharedPasses::buildShadowMap(int size) {
   ShadowMap& s = shadow_;
   s = ShadowMap{};
-  s.type = scene_.light.type;
+  // Area lights share a cube map around their centre (the surface term's approximation).
+  s.type = isAreaLight(scene_.light.type) ? LightType::Point : scene_.light.type;
   s.size = size;
   const Light& light = scene_.light;
   glm::vec3 lo = geometry_.boundsLo, hi = geometry_.boundsHi;
@@ -314,11 +322,8 @@ void SharedPasses::buildShadowMap(int size) {
   GLuint id = 0;
   if (s.type == LightType::Point) {
     s.depth = gl::createTextureCube(GL_DEPTH_COMPONENT32F, size);
-    glm::mat4 proj = glm::perspective(glm::radians(90.0f), 1.0f, s.nearZ, s.farZ);
-    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
     for (int f = 0; f < 6; ++f) {
-      s.faceViewProj[f] = proj * glm::lookAt(light.position, light.position + axes[f], ups[f]);
+      s.faceViewProj[f] = cubeFaceViewProj(light.position, f, s.nearZ, s.farZ);
       glCreateFramebuffers(1, &id);
       s.fbos[f] = gl::Framebuffer(id);
       glNamedFramebufferTextureLayer(id, GL_DEPTH_ATTACHMENT, s.depth.id(), 0, f);
@@ -387,8 +392,12 @@ void SharedPasses::updateUniforms(uint32_t frameIndex, uint32_t seed) {
   glm::vec3 forward = safeDirection(cam.target - cam.position, {0, 0, -1});
   f.cameraForward = glm::vec4(forward, std::tan(glm::radians(cam.fovYDeg) * 0.5f));
   f.lightPos = glm::vec4(light.position, float(lightTypeCode(light.type)));
-  f.lightDir = glm::vec4(safeDirection(light.direction, {0, -1, 0}), std::cos(glm::radians(light.spotOuterDeg)));
-  f.lightColor = glm::vec4(light.color * light.intensity, std::cos(glm::radians(light.spotInnerDeg)));
+  // Area lights: w = two-sided flag, and the colour carries radiance x area (the on-axis intensity).
+  bool area = isAreaLight(light.type);
+  f.lightDir = glm::vec4(safeDirection(light.direction, {0, -1, 0}),
+                         area ? (light.twoSided ? 1.0f : 0.0f) : std::cos(glm::radians(light.spotOuterDeg)));
+  f.lightColor = glm::vec4(light.color * light.intensity * (area ? light.area() : 1.0f),
+                           std::cos(glm::radians(light.spotInnerDeg)));
   f.shadowParams = glm::vec4(shadow_.nearZ, shadow_.farZ, float(shadow_.size), effects_.lightTexture ? 1.0f : 0.0f);
   const Medium& m = scene_.medium;
   f.medium = glm::vec4(m.sigmaS, m.sigmaA, m.sigmaT(), m.phase == Phase::HenyeyGreenstein ? m.g : 0.0f);
@@ -418,7 +427,7 @@ Frame SharedPasses::frame() const {
                width_,          height_,            frameIndex_,       seed_,             gPosition_.id(),
                gNormal_.id(),   gAlbedo_.id(),      depth_.id(),       inscatter_.id(),   inscatterFbo_.id(),
                direct_.id(),    directFbo_.id(),    lightTexture_.id(), ubo_.id(),        volumes_.get(),
-               transmittance_.get()};
+               transmittance_.get(), shadowCasters_};
 }
 
 void SharedPasses::renderShadowMap(PassTimer& timer) {

@@ -154,6 +154,7 @@ struct Frame {
   GLuint uboId;             // FrameUniforms
   const VolumesGpu* volumes;  // null without volume data
   const TransmittanceMap* transmittance;  // null without semi-transparent occluders
+  bool shadowCasters;       // false: the run measures unshadowed L_s (RunOptions::shadowCasters)
   // Binds the frame's UBO, shadow map, light texture and G-buffer to the units in `bind`.
   void bindShared() const;
 };
@@ -204,6 +205,9 @@ class SharedPasses {
 // Preprocessor defines that specialise shaders to the scene's light type, light texture and phase
 // function (see common.glsl); pass them to gl::buildProgram.
 std::string sceneDefines(const Effects& effects);
+
+// View-projection of cube face `face` (+x, -x, +y, -y, +z, -z, GL cube-map conventions) around a point.
+glm::mat4 cubeFaceViewProj(const glm::vec3& position, int face, float nearZ, float farZ);
 
 // Camera and light matrices, exposed for CPU-side integrators and tests.
 glm::mat4 cameraView(const Camera& c);

@@ -155,18 +155,25 @@ struct LightModel {
       : scene(s),
         position(s.light.position),
         direction(glm::normalize(dvec3(s.light.direction))),
-        radiance(dvec3(s.light.color) * double(s.light.intensity)),
+        radiance(dvec3(s.light.color) * double(s.light.intensity) * (isAreaLight(s.light.type) ? double(s.light.area()) : 1.0)),
         cosOuter(std::cos(glm::radians(double(s.light.spotOuterDeg)))),
         cosInner(std::cos(glm::radians(double(s.light.spotInnerDeg)))),
         sigmaT(s.medium.sigmaT()) {}
 
-  // L_in(x) without visibility, exactly as common.glsl's lightIncident().
+  // Cosine emission of an area light towards unit direction l (from the light).
+  double areaEmission(dvec3 l) const {
+    double c = glm::dot(l, direction);
+    return scene.light.twoSided ? std::fabs(c) : std::max(c, 0.0);
+  }
+  // L_in(x) without visibility, exactly as common.glsl's lightIncident() (area lights: their
+  // centre as a cosine-lobed point light, the surface term's model).
   dvec3 incident(dvec3 x) const {
     if (scene.light.type == LightType::Directional) return radiance;
     dvec3 d = x - position;
     double r2 = std::max(glm::dot(d, d), 1e-12);
     double r = std::sqrt(r2);
     dvec3 L = radiance * (std::exp(-sigmaT * r) / r2);
+    if (isAreaLight(scene.light.type)) L *= areaEmission(d / r);
     if (scene.light.type == LightType::Spot) {
       double c = glm::dot(d / r, direction);
       L *= std::clamp((c - cosOuter) / std::max(cosInner - cosOuter, 1e-6), 0.0, 1.0);
@@ -286,6 +293,12 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
   const double sigmaS = scene.medium.sigmaS, sigmaT = scene.medium.sigmaT();
   VolumeModel volumes(scene);
   const double reach = 4.0 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo))) + glm::length(dvec3(hi) + dvec3(lo));
+  // Area lights: lightGrid^2 stratified samples per camera-ray sample.
+  const bool isArea = isAreaLight(scene.light.type);
+  const int lightGrid = std::max(1, int(std::lround(std::sqrt(double(std::max(options.lightSamples, 1))))));
+  const int lightSamples = lightGrid * lightGrid;
+  const dvec3 areaWeight = dvec3(scene.light.color) * double(scene.light.intensity) * double(scene.light.area()) /
+                           double(lightSamples);
   // Transmittance of the volumes from x towards the light.
   auto lightTransmittance = [&](dvec3 x) {
     return volumes.empty() ? 1.0 : std::exp(-volumes.opticalDepth(x, light.source(x, reach)));
@@ -345,6 +358,24 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
               scattering += volumes.coefficients(xs).x;
             }
             if (scattering <= 0.0) continue;
+            if (isArea) {
+              // Stratified, per-pixel jittered points on the light, each with exact visibility.
+              dvec3 sum(0.0);
+              for (int k = 0; k < lightSamples; ++k) {
+                double lu = (k % lightGrid + std::fmod(offset + 0.38196601125 * (k + 1) * (i + 1), 1.0)) / lightGrid;
+                double lv = (k / lightGrid + std::fmod(offset * 1.61803398875 + 0.7548776662 * (k + 1), 1.0)) / lightGrid;
+                dvec3 p = dvec3(scene.light.samplePoint(float(std::min(lu, 1.0 - 1e-7)), float(std::min(lv, 1.0 - 1e-7))));
+                dvec3 d = xs - p;
+                double r2 = std::max(glm::dot(d, d), 1e-12), r = std::sqrt(r2);
+                dvec3 l = d / r;
+                double emission = light.areaEmission(l);
+                if (emission <= 0.0) continue;
+                dvec3 V = tracer.transmittance(xs, -l, r * (1.0 - 1e-6));
+                sum += V * (emission * std::exp(-sigmaT * r) / r2 * light.phase(glm::dot(l, -dir)));
+              }
+              Ls += weight * scattering * std::exp(-sigmaT * s - viewDepth) * sum * areaWeight;
+              continue;
+            }
             dvec3 V = light.visible(tracer, xs);
             if (V == dvec3(0.0)) continue;
             Ls += weight * scattering * std::exp(-sigmaT * s - viewDepth) * lightTransmittance(xs) * V *

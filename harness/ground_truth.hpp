@@ -15,6 +15,7 @@ namespace vs {
 struct GroundTruthOptions {
   int width = 64, height = 48;
   int steps = 2048;   // stratified samples per camera ray
+  int lightSamples = 64;  // area lights: points on the light per sample (rounded to a square)
   uint32_t seed = 1;
   int threads = 0;    // 0: hardware threads
 };

@@ -29,7 +29,9 @@ int nonEmptyLines(const std::string& s) {
 TEST(CliTest, ListShowsScenesMethodsAndParameters) {
   CommandResult r = runVshadow({"list"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  for (const char* s : {"spheres", "room", "fence", "trees", "terrain", "raymarch", "steps", "jitter", "sm"})
+  for (const char* s : {"spheres", "room", "fence", "trees", "terrain", "volumes", "cloud", "foliage", "arealight",
+                        "raymarch", "steps", "jitter", "sm", "light_samples", "volume-data", "semi-transparent",
+                        "colored-shadows", "area-light"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
 

@@ -176,6 +176,30 @@ std::vector<HardCase> build() {
                            {"opacity", 0.01},
                            {"transmittance_color", vec(0.5, 0.3, 0.1)}});
   cases.push_back(make("1000_stacked_layers", s));
+
+  // Area lights (methods without them skip).
+  auto rect = [](double side) {
+    return json{{"type", "rect"}, {"position", vec(0, 3, -2)}, {"direction", vec(0, -1, 0.2)}, {"width", side},
+                {"height", side}, {"intensity", 30.0 / (side * side)}};
+  };
+  s = baseScene();
+  s["light"] = rect(1.0);
+  cases.push_back(make("area_light", s));
+  s = baseScene();
+  s["light"] = rect(1e-6);
+  cases.push_back(make("area_light_size_1e-6", s));
+  s = baseScene();
+  s["light"] = rect(1.0);
+  s["light"]["direction"] = vec(0, 1, 0);  // one-sided, facing the sky: nothing is lit
+  cases.push_back(make("area_light_facing_away", s));
+  s = baseScene();
+  s["light"] = rect(1.0);
+  s["light"]["position"] = vec(-1, 1.2, 0);  // inside the box
+  cases.push_back(make("area_light_inside_geometry", s));
+  s = baseScene();
+  s["light"] = {{"type", "disk"}, {"position", vec(1.2, 1.6, -0.5)}, {"direction", vec(0, -1, 0)}, {"radius", 0.3},
+                {"intensity", 80}, {"two_sided", true}};  // touching the sphere's top
+  cases.push_back(make("area_light_touching_occluder", s));
   return cases;
 }
 }  // namespace

@@ -275,3 +275,75 @@ TEST_F(FailureRowTest, FaultsBecomeFailureRowsWithReasons) {
 
 }  // namespace
 }  // namespace vs::testing
+
+namespace vs::testing {
+namespace {
+
+// A method with its own light-space structure: declares it needs no shared shadow map.
+class OwnShadowsMethod : public Method {
+ public:
+  std::string name() const override { return "own-shadows"; }
+  std::string description() const override { return "test method"; }
+  Capabilities capabilities() const override {
+    Capabilities c;
+    c.pointLight = c.surfaceShadows = true;
+    return c;
+  }
+  std::vector<ParamSpec> params() const override { return {}; }
+  bool needsSharedShadowMap() const override { return false; }
+  std::vector<std::string> approximations() const override { return {"no visibility at all"}; }
+  void setup(const SetupContext&, const ParamValues&) override {}
+  void render(const Frame& frame, PassTimer& timer) override {
+    auto scope = timer.scope("Own Pass");
+    const float nothing[4] = {0, 0, 0, 1};
+    glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, nothing);
+  }
+};
+
+class ContractTest : public GlTest {};
+
+TEST_F(ContractTest, MethodWithoutSharedShadowMapDoesNotPayForIt) {
+  Scene scene = loadScene("spheres");
+  RunOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.frames = 1;
+  options.warmup = 0;
+  Runner runner(scene, limits(), options);
+  OwnShadowsMethod own;
+  ParamValues params = ParamValues::parse("own-shadows", allParams(own, 4096), {});
+  MethodRun r = runner.run(own, params);
+  ASSERT_EQ(r.status, RunStatus::Success) << r.reason;
+  EXPECT_EQ(std::find(r.passes.begin(), r.passes.end(), "Shadow Map"), r.passes.end());
+  EXPECT_NE(std::find(r.passes.begin(), r.passes.end(), "Own Pass"), r.passes.end());
+  EXPECT_EQ(r.approximations, std::vector<std::string>{"no visibility at all"});
+  EXPECT_GE(r.setupMs, 0.0);
+  // The shared shadow map is empty (V = 1), so Direct Lighting is unshadowed for such a method.
+  auto raymarch = createMethod("raymarch");
+  MethodRun shadowed = runner.run(*raymarch, resolveSpec("raymarch:steps=4", limits()).params);
+  ASSERT_EQ(shadowed.status, RunStatus::Success);
+  EXPECT_NE(std::find(shadowed.passes.begin(), shadowed.passes.end(), "Shadow Map"), shadowed.passes.end());
+}
+
+TEST(ContractTest2, MissingCapabilityNamesTheEffect) {
+  Capabilities c;
+  c.pointLight = true;
+  Effects e;
+  e.light = LightType::Point;
+  EXPECT_EQ(missingCapability(c, e), "");
+  e.volumeData = true;
+  EXPECT_NE(missingCapability(c, e).find("volume data"), std::string::npos);
+  e.volumeData = false;
+  e.semiTransparent = true;
+  EXPECT_NE(missingCapability(c, e).find("semi-transparent"), std::string::npos);
+  c.semiTransparentOccluders = true;
+  e.coloredShadows = true;
+  EXPECT_NE(missingCapability(c, e).find("colored shadows"), std::string::npos);
+  e = Effects{};
+  e.light = LightType::Rect;
+  e.areaLight = true;
+  EXPECT_NE(missingCapability(c, e).find("area lights"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vs::testing

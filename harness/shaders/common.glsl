@@ -29,6 +29,8 @@ const float PI = 3.14159265358979323846;
 const int LIGHT_POINT = 0;
 const int LIGHT_SPOT = 1;
 const int LIGHT_DIRECTIONAL = 2;
+const int LIGHT_RECT = 3;  // area lights: the shared passes treat them as a cosine-lobed point light
+const int LIGHT_DISK = 4;  // at their centre (cube shadow map); methods sample the surface
 
 // Programs built with sceneDefines() (harness/frame.hpp) know the light type, light texture and
 // phase function at compile time, so the branches below fold away.
@@ -48,6 +50,14 @@ bool hgPhase() { return VS_HG_PHASE != 0; }
 bool hgPhase() { return u.cameraClip.z > 0.5; }
 #endif
 float sigmaS() { return u.medium.x; }
+// Point lights and area lights use the cube shadow map around u.lightPos.
+bool omniLight() { return lightType() == LIGHT_POINT || lightType() >= LIGHT_RECT; }
+// Cosine emission of an area light towards direction d (unit, from the light): one-sided unless
+// u.lightDir.w (two-sided flag for area lights) is set.
+float areaEmission(vec3 d) {
+  float c = dot(d, u.lightDir.xyz);
+  return u.lightDir.w > 0.5 ? abs(c) : max(c, 0.0);
+}
 float sigmaT() { return u.medium.z; }
 
 // Phase function of the angle between the light's travel direction and the direction to the eye.
@@ -91,6 +101,7 @@ vec3 lightIncident(vec3 x) {
   float r2 = max(dot(d, d), 1e-12);
   float r = sqrt(r2);
   vec3 L = u.lightColor.rgb * (exp(-sigmaT() * r) / r2);
+  if (type >= LIGHT_RECT) L *= areaEmission(d / r);
   if (type == LIGHT_SPOT) {
     float c = dot(d / r, u.lightDir.xyz);
     float cosOuter = u.lightDir.w, cosInner = u.lightColor.w;
@@ -109,7 +120,7 @@ float cubeFaceDepth(vec3 d) {
 
 // Shadow-map visibility of x from the light (hardware 2x2 PCF), 1 outside the map.
 float shadowVisibility(vec3 x) {
-  if (lightType() == LIGHT_POINT) {
+  if (omniLight()) {
     vec3 d = x - u.lightPos.xyz;
     if (dot(d, d) < 1e-24) return 1.0;
     return texture(shadowMapCube, vec4(d, cubeFaceDepth(d)));
@@ -176,7 +187,7 @@ float shadowTexelWorldSize(vec3 x) {
   float size = max(u.shadowParams.z, 1.0);
   if (lightType() == LIGHT_DIRECTIONAL) return 2.0 * u.cameraClip.w / size;
   float dist = length(x - u.lightPos.xyz);
-  float halfTan = lightType() == LIGHT_POINT ? 1.0 : tan(acos(clamp(u.lightDir.w, -1.0, 1.0)));
+  float halfTan = omniLight() ? 1.0 : tan(acos(clamp(u.lightDir.w, -1.0, 1.0)));
   return 2.0 * halfTan * dist / size;
 }
 

@@ -1,8 +1,31 @@
 #include "raymarch.hpp"
 
+#include <glm/gtc/type_ptr.hpp>
+
 namespace vs {
 
 static constexpr const char* kPass = "Ray Marching";
+static constexpr int kMaxLightSamples = 256;
+static constexpr GLuint kVplShadowUnit = bind::kFirstMethodUnit + 1;
+static constexpr GLuint kVplUniforms = 3;
+
+// std140 mirror of AreaLightBlock in raymarch.frag.
+struct AreaLightUniforms {
+  glm::vec4 position[kMaxLightSamples];  // xyz
+  glm::vec4 weight;                      // rgb radiance x area / samples; w count
+  glm::vec4 range;                       // x near, y far of the cube maps
+};
+
+// Point (u, v) of a 2D Hammersley set: stratified in u, the radical inverse of k in v.
+static glm::vec2 hammersley(int k, int count) {
+  uint32_t bits = uint32_t(k);
+  bits = (bits << 16u) | (bits >> 16u);
+  bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+  bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+  bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+  bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+  return glm::vec2((float(k) + 0.5f) / float(count), float(bits) * 2.3283064365386963e-10f);
+}
 
 std::string RaymarchMethod::description() const {
   return "brute-force per-pixel ray marching of L_s with shadow-map visibility (the reference)";
@@ -10,7 +33,7 @@ std::string RaymarchMethod::description() const {
 
 Capabilities RaymarchMethod::capabilities() const {
   Capabilities c;
-  c.pointLight = c.spotLight = c.directionalLight = true;
+  c.pointLight = c.spotLight = c.directionalLight = c.areaLight = true;
   c.texturedLight = true;
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;
@@ -28,14 +51,26 @@ std::vector<ParamSpec> RaymarchMethod::params() const {
           ParamSpec::real("vsteps", 1.0, 0.125, 16.0,
                           "volume data: light-ray steps per voxel of the nested march towards the light"),
           ParamSpec::integer("light_steps_max", 512, 16, 8192,
-                             "volume data: most steps of the nested march per volume and sample")};
+                             "volume data: most steps of the nested march per volume and sample"),
+          ParamSpec::integer("light_samples", 16, 1, kMaxLightSamples,
+                             "area lights: stratified points on the light, each with its own cube shadow map"),
+          ParamSpec::integer("light_sm", 256, 16, 2048, "area lights: cube shadow-map size per light sample").pow2()};
 }
 
 std::vector<std::string> RaymarchMethod::qualityLadder() const {
   return {"steps=8", "steps=16", "steps=32", "steps=64", "steps=128", "steps=256"};
 }
 
-std::string RaymarchMethod::referenceParams() const { return "steps=4096:jitter=1:sampling=equiangular:vsteps=2"; }
+std::string RaymarchMethod::referenceParams() const {
+  return "steps=4096:jitter=1:sampling=equiangular:vsteps=2:light_samples=64:light_sm=512";
+}
+
+std::string RaymarchMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
+  Effects e = deriveEffects(scene);
+  if (e.areaLight && (e.volumeData || e.semiTransparent))
+    return "area lights together with volume data or semi-transparent occluders are not supported";
+  return Method::unsupportedReason(scene, params);
+}
 
 void RaymarchMethod::setup(const SetupContext& context, const ParamValues& params) {
   steps_ = params.getInt("steps");
@@ -50,23 +85,92 @@ void RaymarchMethod::setup(const SetupContext& context, const ParamValues& param
   if (volumes_) {
     for (auto& t : opticalDepth_) t = gl::createTexture2D(GL_RGBA32F, width_, height_);
   }
+  lightSamples_ = context.effects.areaLight ? params.getInt("light_samples") : 0;
+  lightShadowSize_ = params.getInt("light_sm");
   program_ = gl::buildFullscreen("methods/raymarch/shaders/raymarch.frag",
                                  sceneDefines(context.effects) + "#define EQUIANGULAR " +
-                                     (equiangular_ ? "1" : "0") + "\n");
+                                     (equiangular_ ? "1" : "0") + "\n#define AREA_SAMPLES " +
+                                     std::to_string(lightSamples_) + "\n");
+  if (lightSamples_ > 0) {
+    const Light& light = context.scene.light;
+    vplPositions_.clear();
+    for (int k = 0; k < lightSamples_; ++k) {
+      glm::vec2 uv = hammersley(k, lightSamples_);
+      vplPositions_.push_back(light.samplePoint(uv.x, uv.y));
+    }
+    // Cube maps reach every corner of the scene's bounds from any point on the light.
+    glm::vec3 lo = context.geometry.boundsLo, hi = context.geometry.boundsHi;
+    float reach = glm::length(hi - lo) + 2.0f * std::max({light.width, light.height, light.radius}) +
+                  glm::length(light.position - 0.5f * (lo + hi));
+    vplFar_ = std::max(reach * 1.01f, 1e-3f);
+    vplNear_ = std::max(vplFar_ * 1e-4f, 1e-5f);
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &id);
+    vplShadows_ = gl::Texture(id);
+    glTextureStorage3D(id, 1, GL_DEPTH_COMPONENT32F, lightShadowSize_, lightShadowSize_, 6 * lightSamples_);
+    glCreateFramebuffers(1, &id);
+    vplFbo_ = gl::Framebuffer(id);
+    glNamedFramebufferDrawBuffer(id, GL_NONE);
+    glNamedFramebufferReadBuffer(id, GL_NONE);
+    glCreateSamplers(1, &id);
+    vplSampler_ = gl::Sampler(id);
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    shadowProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "harness/shaders/shadow.vert"},
+                                       {GL_FRAGMENT_SHADER, "harness/shaders/shadow.frag"}});
+    AreaLightUniforms al{};
+    for (int k = 0; k < lightSamples_; ++k) al.position[k] = glm::vec4(vplPositions_[size_t(k)], 1.0f);
+    al.weight = glm::vec4(light.color * light.intensity * light.area() / float(lightSamples_), float(lightSamples_));
+    al.range = glm::vec4(vplNear_, vplFar_, 0.0f, 0.0f);
+    vplUbo_ = gl::createBuffer(sizeof al, &al, 0);
+  }
 }
 
 // Loop iterations one sample costs at most: the sample loop itself, the transmittance map's list
 // walk and, per volume, its coefficient and segment loops and the nested march.
 int RaymarchMethod::stepsPerPass(const Frame& frame) const {
-  int perSample = 1;
+  int perSample = 1 + lightSamples_;
   if (frame.transmittance) perSample += frame.transmittance->longestList();
   if (volumes_) perSample += frame.effects.volumeCount * (2 + lightStepsMax_);
   return std::max(1, (gl::kShaderLoopBudget - 64) / perSample);
 }
 
+void RaymarchMethod::renderAreaLightShadows(const Frame& frame, PassTimer& timer) {
+  auto scope = timer.scope("Area Light Shadow Maps");
+  glUseProgram(shadowProgram_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, vplFbo_.id());
+  glViewport(0, 0, lightShadowSize_, lightShadowSize_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.5f, 2.0f);
+  const float one = 1.0f;
+  for (int k = 0; k < lightSamples_; ++k) {
+    for (int face = 0; face < 6; ++face) {
+      glNamedFramebufferTextureLayer(vplFbo_.id(), GL_DEPTH_ATTACHMENT, vplShadows_.id(), 0, 6 * k + face);
+      glClearNamedFramebufferfv(vplFbo_.id(), GL_DEPTH, 0, &one);
+      glm::mat4 m = cubeFaceViewProj(vplPositions_[size_t(k)], face, vplNear_, vplFar_);
+      glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(m));
+      if (frame.shadowCasters) frame.geometry.drawOpaque();
+    }
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_DEPTH_TEST);
+}
+
 void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
+  if (lightSamples_ > 0) renderAreaLightShadows(frame, timer);
   auto scope = timer.scope(kPass);
   frame.bindShared();
+  if (lightSamples_ > 0) {
+    glBindTextureUnit(kVplShadowUnit, vplShadows_.id());
+    glBindSampler(kVplShadowUnit, vplSampler_.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, kVplUniforms, vplUbo_.id());
+  }
   glViewport(0, 0, frame.width, frame.height);
   glDisable(GL_DEPTH_TEST);
   glUseProgram(program_.id());
@@ -108,6 +212,7 @@ void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
     gl::drawFullscreenTriangle();
   }
   glDisable(GL_BLEND);
+  if (lightSamples_ > 0) glBindSampler(kVplShadowUnit, 0);
 }
 
 std::map<std::string, double> RaymarchMethod::stats(const std::map<std::string, TimingStats>& passes) const {

@@ -12,6 +12,7 @@ class RaymarchMethod : public Method {
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> qualityLadder() const override;
   std::string referenceParams() const override;
+  std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
@@ -19,7 +20,17 @@ class RaymarchMethod : public Method {
  private:
   // The passes one frame needs so that no invocation exceeds the loop budget.
   int stepsPerPass(const Frame& frame) const;
+  void renderAreaLightShadows(const Frame& frame, PassTimer& timer);
   gl::Program program_;
+  // Area lights: stratified points on the light, each with a cube shadow map in one array.
+  int lightSamples_ = 0, lightShadowSize_ = 256;
+  gl::Program shadowProgram_;
+  gl::Texture vplShadows_;
+  gl::Framebuffer vplFbo_;
+  gl::Sampler vplSampler_;
+  gl::Buffer vplUbo_;
+  std::vector<glm::vec3> vplPositions_;
+  float vplNear_ = 0.01f, vplFar_ = 100.0f;
   gl::Texture opticalDepth_[2];       // volume data: the camera ray's optical depth between passes
   gl::Framebuffer passFbo_[2];
   GLuint fboInscatter_ = 0;           // the in-scatter texture passFbo_ was made for

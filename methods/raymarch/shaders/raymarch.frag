@@ -20,6 +20,33 @@ layout(location = 5) uniform int lightStepsMax;          // per volume and sampl
 // EQUIANGULAR is defined by the method at build time (0 or 1): a uniform would cost a branch per
 // step, which llvmpipe does not hoist.
 layout(location = 0) out vec4 outInscatter;
+#if AREA_SAMPLES > 0
+// Area lights: AREA_SAMPLES stratified points on the light (raymarch.cpp), each a cosine-lobed
+// point light with its own cube shadow map.
+layout(std140, binding = 3) uniform AreaLightBlock {
+  vec4 position[256];
+  vec4 weight;  // rgb radiance x area / samples
+  vec4 range;   // near, far of the cube maps
+} al;
+layout(binding = 11) uniform samplerCubeArrayShadow lightSampleShadows;
+
+// L_in summed over the light samples, times the phase towards the eye (per unit sigma_s).
+vec3 areaLightInscatter(vec3 x, vec3 dir) {
+  vec3 total = vec3(0.0);
+  float n = al.range.x, f = al.range.y;
+  for (int k = 0; k < AREA_SAMPLES; ++k) {
+    vec3 d = x - al.position[k].xyz;
+    float r2 = max(dot(d, d), 1e-12);
+    float r = sqrt(r2);
+    vec3 l = d / r;
+    float m = max(abs(d.x), max(abs(d.y), abs(d.z)));
+    float zNdc = (f + n) / max(f - n, 1e-20) - 2.0 * f * n / max((f - n) * m, 1e-20);
+    float v = texture(lightSampleShadows, vec4(d, float(k)), clamp(zNdc * 0.5 + 0.5, 0.0, 1.0));
+    total += areaEmission(l) * v * exp(-sigmaT() * r) / r2 * phase(dot(l, -dir));
+  }
+  return total * al.weight.rgb;
+}
+#endif
 #if VS_VOLUMES > 0
 // The camera ray's optical depth carried from pass to pass: x tau up to the previous sample, y its
 // distance, z sigma_t there.
@@ -83,6 +110,8 @@ void main() {
     float offset = jitter != 0 ? fract(pixelOffset + float(i) * 0.7548776662) : 0.5;
     visibility *= volumeLightTransmittance(x, volumeStepsPerVoxel, lightSteps, offset);
     sum += weight * scattering * exp(-sigmaT() * s - tau) * visibility * phase(cosTheta) * lightIncident(x);
+#elif AREA_SAMPLES > 0
+    sum += weight * sigmaS() * exp(-sigmaT() * s) * areaLightInscatter(x, dir);
 #else
     sum += weight * sigmaS() * exp(-sigmaT() * s) * visibility * phase(cosTheta) * lightIncident(x);
 #endif
