@@ -90,24 +90,47 @@ void VolumesGpu::bind() const {
 // ---- scene upload
 
 SceneGpu::SceneGpu(const Scene& scene) {
-  constexpr int kFloats = 12;
+  constexpr int kFloats = 17;
   std::vector<float> vertexData;
-  std::vector<uint32_t> opaque, translucent;
+  std::vector<uint32_t> opaque;
+  struct Pending {
+    std::vector<uint32_t> indices;
+    int texture;
+  };
+  std::vector<Pending> translucent;
   for (const Mesh& mesh : scene.meshes) {
     if (mesh.opacity <= 0.0f) continue;  // cut out: neither seen nor casting shadows
     uint32_t base = uint32_t(vertexData.size() / kFloats);
-    glm::vec3 t = mesh.crossingTransmittance();
+    int texture = mesh.alphaTexture >= 0 && size_t(mesh.alphaTexture) < scene.alphaTextures.size() ? mesh.alphaTexture : -1;
+    glm::vec3 c = mesh.transmittanceColor;
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
       const glm::vec3& p = mesh.positions[i];
       glm::vec3 n = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0, 1, 0);
+      glm::vec2 uv = i < mesh.uvs.size() ? mesh.uvs[i] : glm::vec2(0.0f);
       vertexData.insert(vertexData.end(), {p.x, p.y, p.z, n.x, n.y, n.z, mesh.albedo.r, mesh.albedo.g, mesh.albedo.b,
-                                           t.r, t.g, t.b});
+                                           c.r, c.g, c.b, uv.x, uv.y, float(texture), mesh.alphaCutoff, mesh.opacity});
     }
-    std::vector<uint32_t>& target = mesh.isOpaque() ? opaque : translucent;
-    for (uint32_t index : mesh.indices) target.push_back(base + index);
+    if (mesh.isOpaque()) {
+      for (uint32_t index : mesh.indices) opaque.push_back(base + index);
+    } else {
+      Pending pending{{}, texture};
+      for (uint32_t index : mesh.indices) pending.indices.push_back(base + index);
+      translucent.push_back(std::move(pending));
+    }
+  }
+  for (const AlphaTexture& t : scene.alphaTextures) {
+    gl::Texture texture = gl::createTexture2D(GL_R32F, t.width, t.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(texture.id(), 0, 0, 0, t.width, t.height, GL_RED, GL_FLOAT, t.alpha.data());
+    gl::setFilter(texture.id(), GL_LINEAR, GL_LINEAR, GL_REPEAT);
+    alphaTextures_.push_back(std::move(texture));
   }
   opaqueIndexCount = GLsizei(opaque.size());
-  opaque.insert(opaque.end(), translucent.begin(), translucent.end());
+  for (const Pending& p : translucent) {
+    translucent_.push_back({GLsizei(opaque.size()), GLsizei(p.indices.size()),
+                            p.texture >= 0 ? alphaTextures_[size_t(p.texture)].id() : 0});
+    opaque.insert(opaque.end(), p.indices.begin(), p.indices.end());
+  }
   indexCount = GLsizei(opaque.size());
   vertices = gl::createBuffer(vertexData.size() * sizeof(float), vertexData.empty() ? nullptr : vertexData.data(), 0);
   indices = gl::createBuffer(opaque.size() * sizeof(uint32_t), opaque.empty() ? nullptr : opaque.data(), 0);
@@ -116,18 +139,20 @@ SceneGpu::SceneGpu(const Scene& scene) {
   vao = gl::VertexArray(id);
   glVertexArrayVertexBuffer(id, 0, vertices.id(), 0, kFloats * sizeof(float));
   glVertexArrayElementBuffer(id, indices.id());
-  for (GLuint a = 0; a < 4; ++a) {
+  const GLint sizes[6] = {3, 3, 3, 3, 2, 3};
+  GLuint offset = 0;
+  for (GLuint a = 0; a < 6; ++a) {
     glEnableVertexArrayAttrib(id, a);
-    glVertexArrayAttribFormat(id, a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
+    glVertexArrayAttribFormat(id, a, sizes[a], GL_FLOAT, GL_FALSE, offset * sizeof(float));
     glVertexArrayAttribBinding(id, a, 0);
+    offset += GLuint(sizes[a]);
   }
   scene.bounds(boundsLo, boundsHi);
 }
 
 void SceneGpu::draw() const {
-  if (indexCount == 0) return;
-  glBindVertexArray(vao.id());
-  glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
+  drawOpaque();
+  drawTranslucent();
 }
 
 void SceneGpu::drawOpaque() const {
@@ -137,11 +162,12 @@ void SceneGpu::drawOpaque() const {
 }
 
 void SceneGpu::drawTranslucent() const {
-  GLsizei count = indexCount - opaqueIndexCount;
-  if (count == 0) return;
+  if (translucent_.empty()) return;
   glBindVertexArray(vao.id());
-  glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
-                 reinterpret_cast<const void*>(size_t(opaqueIndexCount) * sizeof(uint32_t)));
+  for (const Range& r : translucent_) {
+    glBindTextureUnit(bind::kAlphaTexture, r.texture);
+    glDrawElements(GL_TRIANGLES, r.count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(size_t(r.first) * sizeof(uint32_t)));
+  }
 }
 
 // ---- transmittance map

@@ -28,6 +28,7 @@ constexpr GLuint kInscatter = 7;          // L_s
 constexpr GLuint kShadowDepth2D = 8;      // the 2D shadow map as plain depth (sampler2D)
 constexpr GLuint kShadowDepthCube = 9;    // the cube shadow map as plain depth (samplerCube)
 constexpr GLuint kFirstMethodUnit = 10;   // units 10-15 belong to the method
+constexpr GLuint kAlphaTexture = 21;      // sampler2D: the alpha texture of the mesh being drawn
 constexpr GLuint kVolumeDensity0 = 16;    // sampler3D per volume: units 16 .. 16 + kMaxVolumes - 1
 constexpr GLuint kVolumeUniforms = 1;     // UBO
 constexpr GLuint kTransmittanceHeads = 7;  // image unit (uimage2DArray): first node per light texel and face
@@ -104,9 +105,10 @@ struct FrameUniforms {
   glm::ivec4 viewport;       // width, height, frame index, seed
 };
 
-// Vertex attributes: 0 position, 1 normal, 2 albedo, 3 crossing transmittance (Mesh::crossingTransmittance).
+// Vertex attributes: 0 position, 1 normal, 2 albedo, 3 transmittance colour, 4 texture coordinate,
+// 5 alpha (x texture or -1, y MASK cutoff or -1 for BLEND, z opacity; see Mesh::opacityAt).
 // Indices are ordered opaque meshes first, then semi-transparent ones; cut-out meshes (opacity 0)
-// are not uploaded.
+// are not uploaded. Alpha textures sit on unit bind::kAlphaTexture while their meshes draw.
 struct SceneGpu {
   gl::VertexArray vao;
   gl::Buffer vertices, indices;
@@ -117,6 +119,14 @@ struct SceneGpu {
   void draw() const;             // everything the camera sees
   void drawOpaque() const;       // what the shadow map holds
   void drawTranslucent() const;  // what the transmittance map holds
+
+ private:
+  struct Range {
+    GLsizei first, count;
+    GLuint texture;  // 0: no alpha texture
+  };
+  std::vector<Range> translucent_;
+  std::vector<gl::Texture> alphaTextures_;
 };
 
 struct ShadowMap {

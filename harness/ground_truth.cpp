@@ -52,10 +52,10 @@ class Tracer {
       rtcReleaseGeometry(g);
       if (albedo_.size() <= id) {
         albedo_.resize(id + 1);
-        crossing_.resize(id + 1);
+        meshes_.resize(id + 1);
       }
       albedo_[id] = dvec3(mesh.albedo);
-      crossing_[id] = mesh.isOpaque() ? dvec3(0.0) : dvec3(mesh.crossingTransmittance());
+      meshes_[id] = &mesh;
       anyTranslucent_ = anyTranslucent_ || !mesh.isOpaque();
     }
     rtcCommitScene(rtcScene_.get());
@@ -68,14 +68,37 @@ class Tracer {
     dvec3 albedo{0};
   };
 
+  // Opacity of the surface at a hit (Mesh::opacityAt with the texture sampled at the hit's
+  // interpolated texture coordinate, bilinear and repeating as on the GPU).
+  double opacityAt(const RTCHit& hit) const {
+    const Mesh& mesh = *meshes_[hit.geomID];
+    if (mesh.alphaTexture < 0 || size_t(mesh.alphaTexture) >= scene_.alphaTextures.size() ||
+        mesh.uvs.size() != mesh.positions.size())
+      return mesh.opacityAt(1.0f);
+    const uint32_t* tri = &mesh.indices[size_t(hit.primID) * 3];
+    glm::vec2 uv = (1.0f - hit.u - hit.v) * mesh.uvs[tri[0]] + hit.u * mesh.uvs[tri[1]] + hit.v * mesh.uvs[tri[2]];
+    return mesh.opacityAt(scene_.alphaTextures[size_t(mesh.alphaTexture)].sample(uv));
+  }
+  // A masked texel the camera sees through.
+  bool cutOut(const RTCHit& hit) const {
+    const Mesh& mesh = *meshes_[hit.geomID];
+    return mesh.alphaTexture >= 0 && mesh.alphaCutoff >= 0.0f && opacityAt(hit) <= 0.0;
+  }
+
   Hit intersect(dvec3 origin, dvec3 dir, double tfar) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
     RTCRayHit rh{};
-    setRay(rh.ray, origin, dir, 0.0, tfar);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtcScene_.get(), &context, &rh);
+    double tnear = 0.0;
+    for (int cut = 0; cut < 1000000; ++cut) {
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      setRay(rh.ray, origin, dir, tnear, tfar);
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(rtcScene_.get(), &context, &rh);
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !cutOut(rh.hit)) break;
+      double t = rh.ray.tfar;
+      tnear = std::max(double(std::nextafter(float(t), std::numeric_limits<float>::infinity())), t * (1.0 + 1e-6));
+    }
     Hit h;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
     h.hit = true;
@@ -103,7 +126,8 @@ class Tracer {
       rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(rtcScene_.get(), &context, &rh);
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-      T *= crossing_[rh.hit.geomID];
+      const Mesh& mesh = *meshes_[rh.hit.geomID];
+      T *= dvec3(1.0) - opacityAt(rh.hit) * (dvec3(1.0) - dvec3(mesh.transmittanceColor));
       if (T == dvec3(0.0)) break;
       // Step past this hit: the next float after it along the ray (coplanar layers each count once
       // only when they are apart by more than that).
@@ -142,7 +166,8 @@ class Tracer {
   const Scene& scene_;
   std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
   std::unique_ptr<RTCSceneTy, SceneDeleter> rtcScene_;
-  std::vector<dvec3> albedo_, crossing_;
+  std::vector<dvec3> albedo_;
+  std::vector<const Mesh*> meshes_;
   bool anyTranslucent_ = false;
 };
 

@@ -1,11 +1,15 @@
 #include "scenes/gltf_loader.hpp"
 
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
 #include <glm/gtc/quaternion.hpp>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <memory>
 #include "scenes/json_reader.hpp"
 #include "scenes/mesh_utils.hpp"
 
@@ -13,7 +17,8 @@ namespace vs {
 
 namespace {
 
-// Images are not used (only baseColorFactor is), so they are not decoded.
+// tinygltf does not decode images: the loader decodes only the base-colour textures of BLEND and
+// MASK materials, with OpenImageIO, for their alpha channel.
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
   return true;
 }
@@ -168,7 +173,8 @@ class GltfReader {
       case TINYGLTF_COMPONENT_TYPE_FLOAT: componentSize = 4; break;
       default: fail(where + "unsupported component type " + std::to_string(accessor.componentType));
     }
-    const size_t elementSize = componentSize * (wantedType == TINYGLTF_TYPE_VEC3 ? 3 : 1);
+    const size_t elementSize =
+        componentSize * (wantedType == TINYGLTF_TYPE_VEC3 ? 3 : wantedType == TINYGLTF_TYPE_VEC2 ? 2 : 1);
     AccessorView view;
     view.count = accessor.count;
     view.stride = elementSize;
@@ -203,6 +209,99 @@ class GltfReader {
     return view;
   }
 
+  std::vector<glm::vec2> readVec2(int index, const std::string& what) const {
+    AccessorView view = viewAccessor(index, TINYGLTF_TYPE_VEC2, what);
+    if (model_.accessors[size_t(index)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      fail(what + " accessor " + std::to_string(index) + ": components must be floats");
+    std::vector<glm::vec2> values(view.count, glm::vec2(0.0f));
+    if (view.data)
+      for (size_t i = 0; i < view.count; ++i) std::memcpy(&values[i], view.data + i * view.stride, sizeof(glm::vec2));
+    return values;
+  }
+
+  // The alpha channel of image `imageIndex` (decoded once), as an index into content_.alphaTextures;
+  // -1 when the image has no alpha channel (then it cannot change the opacity).
+  int alphaTexture(int imageIndex, const std::string& what) {
+    auto cached = decoded_.find(imageIndex);
+    if (cached != decoded_.end()) return cached->second;
+    if (imageIndex < 0 || size_t(imageIndex) >= model_.images.size())
+      fail(what + ": image index " + std::to_string(imageIndex) + " out of range");
+    const tinygltf::Image& image = model_.images[size_t(imageIndex)];
+    std::string where = what + ": image " + std::to_string(imageIndex);
+    std::unique_ptr<OIIO::ImageInput> input;
+    std::vector<unsigned char> bytes;
+    if (image.bufferView >= 0) {
+      if (size_t(image.bufferView) >= model_.bufferViews.size()) fail(where + ": bufferView out of range");
+      const tinygltf::BufferView& view = model_.bufferViews[size_t(image.bufferView)];
+      if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size()) fail(where + ": buffer out of range");
+      const std::vector<unsigned char>& buffer = model_.buffers[size_t(view.buffer)].data;
+      if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+        fail(where + ": buffer view exceeds its buffer");
+      bytes.assign(buffer.begin() + long(view.byteOffset), buffer.begin() + long(view.byteOffset + view.byteLength));
+      OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
+      std::string format = image.mimeType == "image/jpeg" ? "a.jpg" : "a.png";
+      OIIO::ImageSpec config;
+      input = OIIO::ImageInput::open(format, &config, &reader);
+      if (!input) fail(where + ": cannot decode (" + oneLine(OIIO::geterror()) + ")");
+      return decodeAlpha(*input, imageIndex, where);
+    }
+    if (image.uri.empty() || image.uri.rfind("data:", 0) == 0)
+      fail(where + ": embedded data-URI images are not supported (use a file or a buffer view)");
+    std::string path = (std::filesystem::path(path_).parent_path() / image.uri).string();
+    std::string contents, error;
+    if (!readFile(path, contents, error)) fail(where + ": cannot open '" + path + "': " + error);
+    imageFiles_.push_back(contents);
+    input = OIIO::ImageInput::open(path);
+    if (!input) fail(where + ": cannot decode '" + path + "' (" + oneLine(OIIO::geterror()) + ")");
+    return decodeAlpha(*input, imageIndex, where);
+  }
+
+  int decodeAlpha(OIIO::ImageInput& input, int imageIndex, const std::string& where) {
+    const OIIO::ImageSpec& spec = input.spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || size_t(spec.width) * size_t(spec.height) > (size_t(1) << 24))
+      fail(where + ": not a 2D image of at most 16M pixels");
+    int index = -1;
+    if (spec.alpha_channel >= 0 || spec.nchannels == 4 || spec.nchannels == 2) {
+      int channel = spec.alpha_channel >= 0 ? spec.alpha_channel : spec.nchannels - 1;
+      AlphaTexture t;
+      t.width = spec.width;
+      t.height = spec.height;
+      t.alpha.resize(size_t(t.width) * size_t(t.height));
+      if (!input.read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::FLOAT, t.alpha.data()))
+        fail(where + ": cannot decode (" + oneLine(input.geterror()) + ")");
+      for (float& a : t.alpha) a = std::isfinite(a) ? std::clamp(a, 0.0f, 1.0f) : 1.0f;
+      index = int(content_.alphaTextures.size());
+      content_.alphaTextures.push_back(std::move(t));
+    }
+    decoded_[imageIndex] = index;
+    return index;
+  }
+
+  // Texture alpha of a BLEND/MASK material: sets mesh.alphaTexture and mesh.uvs.
+  void readAlphaTexture(int materialIndex, const tinygltf::Primitive& primitive, Mesh& mesh, const std::string& what) {
+    if (materialIndex < 0 || size_t(materialIndex) >= model_.materials.size()) return;
+    const tinygltf::Material& m = model_.materials[size_t(materialIndex)];
+    if (m.alphaMode != "BLEND" && m.alphaMode != "MASK") return;
+    if (m.alphaMode == "MASK") mesh.alphaCutoff = float(m.alphaCutoff);
+    const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+    if (info.index < 0) return;
+    if (size_t(info.index) >= model_.textures.size()) fail(what + ": texture index " + std::to_string(info.index) + " out of range");
+    int source = model_.textures[size_t(info.index)].source;
+    if (source < 0) return;
+    auto uvAttribute = primitive.attributes.find("TEXCOORD_" + std::to_string(std::max(info.texCoord, 0)));
+    if (uvAttribute == primitive.attributes.end())
+      fail(what + ": the base-colour texture needs TEXCOORD_" + std::to_string(std::max(info.texCoord, 0)));
+    int texture = alphaTexture(source, what);
+    if (texture < 0) return;
+    mesh.uvs = readVec2(uvAttribute->second, what + " TEXCOORD");
+    if (mesh.uvs.size() != mesh.positions.size()) fail(what + ": TEXCOORD and POSITION counts differ");
+    mesh.alphaTexture = texture;
+  }
+
+ public:
+  const std::vector<std::string>& imageFiles() const { return imageFiles_; }
+
+ private:
   std::vector<glm::vec3> readVec3(int index, const std::string& what) const {
     AccessorView view = viewAccessor(index, TINYGLTF_TYPE_VEC3, what);
     if (model_.accessors[size_t(index)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
@@ -251,8 +350,9 @@ class GltfReader {
     return albedo;
   }
 
-  // alphaMode BLEND: opacity = baseColorFactor alpha; MASK: alpha below alphaCutoff cuts the
-  // primitive out (opacity 0), else opaque; OPAQUE (default): 1. Texture alpha is not decoded yet.
+  // alphaMode BLEND: opacity = baseColorFactor alpha (times the texture's alpha per texel); MASK
+  // without a texture: alpha below alphaCutoff cuts the primitive out (opacity 0), else opaque
+  // (with a texture: per texel, Mesh::opacityAt); OPAQUE (default): 1.
   float materialOpacity(int materialIndex) const {
     if (materialIndex < 0 || size_t(materialIndex) >= model_.materials.size()) return 1.0f;
     const tinygltf::Material& m = model_.materials[size_t(materialIndex)];
@@ -264,6 +364,7 @@ class GltfReader {
     if (m.alphaMode == "MASK") {
       if (!(m.alphaCutoff >= 0.0 && m.alphaCutoff <= 1.0))
         fail("material " + std::to_string(materialIndex) + ": alphaCutoff must be in [0, 1]");
+      if (m.pbrMetallicRoughness.baseColorTexture.index >= 0) return float(alpha);
       return alpha < m.alphaCutoff ? 0.0f : 1.0f;
     }
     if (!m.alphaMode.empty() && m.alphaMode != "OPAQUE")
@@ -294,6 +395,7 @@ class GltfReader {
         mesh.normals = readVec3(normalAttribute->second, what + " NORMAL");
         if (mesh.normals.size() != mesh.positions.size()) fail(what + ": NORMAL and POSITION counts differ");
       }
+      readAlphaTexture(primitive.material, primitive, mesh, what);
       std::vector<uint32_t> order;
       if (primitive.indices >= 0) {
         order = readIndices(primitive.indices, what + " indices");
@@ -330,6 +432,8 @@ class GltfReader {
   const tinygltf::Model& model_;
   std::vector<bool> onPath_;
   GltfContent content_;
+  std::map<int, int> decoded_;            // image index -> alpha texture index (-1: no alpha)
+  std::vector<std::string> imageFiles_;   // external image files read (for the content hash)
 };
 
 bool isDataUri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
@@ -366,7 +470,11 @@ GltfContent loadGltf(const std::string& path, const glm::mat4& transform, Conten
     for (const tinygltf::Buffer& buffer : model.buffers)
       if (!buffer.uri.empty() && !isDataUri(buffer.uri)) hasher->addBlock(buffer.data.data(), buffer.data.size());
   }
-  return GltfReader(path, model).read(transform);
+  GltfReader reader(path, model);
+  GltfContent content = reader.read(transform);
+  if (hasher)
+    for (const std::string& image : reader.imageFiles()) hasher->addBlock(image);
+  return content;
 }
 
 }  // namespace vs

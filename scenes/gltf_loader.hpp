@@ -12,6 +12,8 @@ struct GltfContent {
   // One mesh per triangle primitive instance, in world space. Not yet sanitised: degenerate
   // triangles are still present (the scene loader removes and counts them).
   std::vector<Mesh> meshes;
+  // Alpha channels of the textures that BLEND/MASK materials use; Mesh::alphaTexture indexes this.
+  std::vector<AlphaTexture> alphaTextures;
   bool hasLight = false;  // the first KHR_lights_punctual light met in the node hierarchy
   Light light;
 };

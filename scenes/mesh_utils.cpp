@@ -51,16 +51,20 @@ size_t removeDegenerateTriangles(Mesh& mesh) {
   std::vector<uint32_t> newIndexOf(vertexCount, UINT32_MAX);
   for (uint32_t i : keptIndices) newIndexOf[i] = 0;
   std::vector<glm::vec3> positions, normals;
+  std::vector<glm::vec2> uvs;
+  const bool hasUvs = mesh.uvs.size() == vertexCount;
   uint32_t next = 0;
   for (size_t v = 0; v < vertexCount; ++v) {
     if (newIndexOf[v] == UINT32_MAX) continue;
     newIndexOf[v] = next++;
     positions.push_back(mesh.positions[v]);
     if (hasNormals) normals.push_back(mesh.normals[v]);
+    if (hasUvs) uvs.push_back(mesh.uvs[v]);
   }
   for (uint32_t& i : keptIndices) i = newIndexOf[i];
   mesh.positions = std::move(positions);
   if (hasNormals) mesh.normals = std::move(normals);
+  if (hasUvs) mesh.uvs = std::move(uvs);
   mesh.indices = std::move(keptIndices);
   return removed;
 }

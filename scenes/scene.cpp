@@ -52,6 +52,19 @@ glm::vec3 Light::samplePoint(float u, float v) const {
   return position;
 }
 
+float AlphaTexture::sample(glm::vec2 uv) const {
+  if (width <= 0 || height <= 0) return 1.0f;
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return alpha[0];
+  float x = uv.x * float(width) - 0.5f, y = uv.y * float(height) - 0.5f;
+  float fx = std::floor(x), fy = std::floor(y);
+  auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
+  int x0 = wrap(long(fx), width), x1 = wrap(long(fx) + 1, width);
+  int y0 = wrap(long(fy), height), y1 = wrap(long(fy) + 1, height);
+  float tx = x - fx, ty = y - fy;
+  auto at = [&](int i, int j) { return alpha[size_t(j) * size_t(width) + size_t(i)]; };
+  return (at(x0, y0) * (1 - tx) + at(x1, y0) * tx) * (1 - ty) + (at(x0, y1) * (1 - tx) + at(x1, y1) * tx) * ty;
+}
+
 float Volume::densityAt(const glm::vec3& p) const {
   if (voxelCount() == 0) return 0.0f;
   glm::vec3 extent = boxHi - boxLo;

@@ -15,6 +15,14 @@ struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The alpha channel of a texture (glTF baseColorTexture): row 0 = top, sampled bilinearly between
+// texel centres with repeat wrapping at (u, v), v = 0 at the top (glTF convention).
+struct AlphaTexture {
+  int width = 0, height = 0;
+  std::vector<float> alpha;  // width * height, in [0, 1]
+  float sample(glm::vec2 uv) const;
+};
+
 struct Mesh {
   std::vector<glm::vec3> positions;  // world space
   std::vector<glm::vec3> normals;    // same size as positions, unit length
@@ -26,7 +34,18 @@ struct Mesh {
   // default) gives grey shadows of transmittance 1 - opacity.
   float opacity = 1.0f;
   glm::vec3 transmittanceColor{0.0f};
-  bool isOpaque() const { return opacity >= 1.0f; }
+  // Per-texel alpha (glTF alphaMode BLEND or MASK with a baseColorTexture): index into
+  // Scene::alphaTextures, sampled at `uvs`. BLEND: opacity x texel alpha; MASK (alphaCutoff >= 0):
+  // cut out where opacity x texel alpha < alphaCutoff, opaque elsewhere.
+  std::vector<glm::vec2> uvs;
+  int alphaTexture = -1;
+  float alphaCutoff = -1.0f;
+  bool isOpaque() const { return opacity >= 1.0f && alphaTexture < 0; }
+  // Opacity at a texel alpha (1 without a texture), as every renderer and the ground truth apply it.
+  float opacityAt(float texelAlpha) const {
+    float a = opacity * texelAlpha;
+    return alphaCutoff >= 0.0f ? (a < alphaCutoff ? 0.0f : 1.0f) : a;
+  }
   bool hasTransmittanceColor() const { return transmittanceColor != glm::vec3(0.0f); }
   glm::vec3 crossingTransmittance() const { return glm::vec3(1.0f) - opacity * (glm::vec3(1.0f) - transmittanceColor); }
   size_t triangleCount() const { return indices.size() / 3; }
@@ -112,6 +131,7 @@ struct Scene {
   Light light;
   Medium medium;
   std::vector<Volume> volumes;  // heterogeneous media, added to the homogeneous `medium`
+  std::vector<AlphaTexture> alphaTextures;  // referenced by Mesh::alphaTexture
   std::string contentHash; // hash of the scene's defining text and referenced files (cache keys)
   size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
 

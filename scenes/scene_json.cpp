@@ -233,6 +233,7 @@ glm::mat4 placement(const glm::vec3& translate, float scale, float rotateYDeg) {
 
 struct GeometryResult {
   std::vector<Mesh> meshes;
+  std::vector<AlphaTexture> alphaTextures;
   bool usedGenerator = false;
   bool hasGltfLight = false;
   Light gltfLight;
@@ -282,7 +283,10 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     } catch (const SceneError& e) {
       entry.fail("gltf", e.what());
     }
+    int textureBase = int(out.alphaTextures.size());
+    for (AlphaTexture& t : content.alphaTextures) out.alphaTextures.push_back(std::move(t));
     for (Mesh& mesh : content.meshes) {
+      if (mesh.alphaTexture >= 0) mesh.alphaTexture += textureBase;
       if (!name.empty()) mesh.name = name + "/" + mesh.name;
       out.meshes.push_back(std::move(mesh));
     }
@@ -344,6 +348,7 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
     root.fail("light", "missing required key (and no glTF file in the scene has a KHR_lights_punctual light)");
   }
 
+  scene.alphaTextures = std::move(result.alphaTextures);
   for (Mesh& mesh : result.meshes) {
     scene.droppedTriangles += sanitizeMesh(mesh);
     if (mesh.triangleCount() > 0) scene.meshes.push_back(std::move(mesh));

@@ -5,6 +5,7 @@
 
 #include "gl_test.hpp"
 #include "harness/ground_truth.hpp"
+#include "fixtures.hpp"
 #include "harness/metrics.hpp"
 
 namespace vs::testing {
@@ -48,6 +49,55 @@ TEST_F(TranslucencyTest, HalfTransparentQuadPassesExactlyHalfTheLight) {
         EXPECT_NEAR(gtTinted.inscatter.at(x, y)[c], t * ref, 1e-6 * ref);
         EXPECT_NEAR(gpuTinted.inscatter.at(x, y)[c], t * gpuOpen.inscatter.at(x, y)[c], 1e-5 * ref);
       }
+}
+
+TEST_F(TranslucencyTest, TextureAlphaIsUsedPerTexelByTheReferenceAndTheGroundTruth) {
+  // A 200x200 textured quad at y = 3 above the camera of quadScene(), light above it.
+  std::string dir = makeTempDir("alpha-quad");
+  auto scene = [&](const std::string& mode, double cutoff, const std::vector<float>& alpha, int w, int h) {
+    std::string gltf = writeAlphaQuadGltf(dir, mode + std::to_string(w), mode, cutoff, w, h, alpha, 200.0, 3.0);
+    std::string text = quadScene("");
+    text.replace(text.find(R"({"generator": "plane", "params": {"center": [0, 3, 0], "size": [200, 200]}})"),
+                 std::string(R"({"generator": "plane", "params": {"center": [0, 3, 0], "size": [200, 200]}})").size(),
+                 R"({"gltf": ")" + gltf + R"("})");
+    return sceneFromJson(text);
+  };
+  const int W = 16, H = 12;
+  Scene open = sceneFromJson(quadScene(R"(, "opacity": 0)"));
+  GroundTruthOptions options;
+  options.width = W;
+  options.height = H;
+  options.steps = 256;
+  GroundTruth gtOpen = renderGroundTruth(open, options);
+  MethodRun gpuOpen = renderScene(open, "raymarch:steps=256:sm=256", W, H);
+  // Uniform alpha 0.5 (128/255): BLEND passes 1 - 0.502 of the light; MASK at cutoff 0.6 cuts it all out.
+  double a = 128.0 / 255.0;
+  for (auto [mode, cutoff, passes] : {std::tuple<const char*, double, double>{"BLEND", 0.0, 1.0 - a},
+                                      std::tuple<const char*, double, double>{"MASK", 0.6, 1.0}}) {
+    Scene s = scene(mode, cutoff, std::vector<float>(4, 0.5f), 2, 2);
+    GroundTruth gt = renderGroundTruth(s, options);
+    MethodRun gpu = renderScene(s, "raymarch:steps=256:sm=256", W, H);
+    ASSERT_EQ(gpu.status, RunStatus::Success) << gpu.reason;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        double ref = gtOpen.inscatter.at(x, y)[0];
+        EXPECT_NEAR(gt.inscatter.at(x, y)[0], passes * ref, 1e-5 * ref) << mode;
+        EXPECT_NEAR(gpu.inscatter.at(x, y)[0], passes * gpuOpen.inscatter.at(x, y)[0], 1e-4 * ref) << mode;
+      }
+  }
+  // A checkerboard of alpha 0.2 and 1 in texels of 0.78 units: the shadow pattern matches.
+  std::vector<float> checker(256 * 256);
+  for (int j = 0; j < 256; ++j)
+    for (int i = 0; i < 256; ++i) checker[size_t(j) * 256 + i] = ((i + j) % 2) ? 1.0f : 0.2f;
+  Scene s = scene("BLEND", 0.0, checker, 256, 256);
+  options.width = 32;
+  options.height = 24;
+  GroundTruth gt = renderGroundTruth(s, options);
+  MethodRun gpu = renderScene(s, "raymarch:steps=256:sm=2048", 32, 24);
+  ASSERT_EQ(gpu.status, RunStatus::Success) << gpu.reason;
+  ErrorMetrics ls = compareImages(gpu.inscatter, gt.inscatter);
+  std::printf("checkerboard alpha: raymarch vs ground truth L_s relMSE %.2e ssim %.4f\n", ls.relmse, ls.ssim);
+  EXPECT_LT(ls.relmse, 2e-3);
 }
 
 TEST_F(TranslucencyTest, StackedLayersMultiply) {

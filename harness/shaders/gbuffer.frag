@@ -3,10 +3,13 @@
 in vec3 vPosition;
 in vec3 vNormal;
 in vec3 vAlbedo;
+in vec2 vUv;
+in vec3 vAlpha;
 layout(location = 0) out vec4 outPosition;
 layout(location = 1) out vec4 outNormal;
 layout(location = 2) out vec4 outAlbedo;
 void main() {
+  if (vAlpha.y >= 0.0 && surfaceOpacity(vAlpha, vUv) <= 0.0) discard;  // alpha-masked cut-outs
   vec3 toEye = u.eye.xyz - vPosition;
   vec3 n = vNormal;
   float len = length(n);

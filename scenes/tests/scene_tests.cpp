@@ -16,6 +16,7 @@
 #include "scenes/mesh_utils.hpp"
 #include "scenes/procedural.hpp"
 #include "scenes/scene.hpp"
+#include "fixtures.hpp"
 
 namespace fs = std::filesystem;
 using vs::Scene;
@@ -842,4 +843,37 @@ TEST(SceneErrors, ValuesThatCannotRenderFiniteAreRejected) {
                       {"light.intensity"});
   expectErrorMentions(loadError(dir, sceneText("", kPointLight, R"("medium": {"sigma_s": 1e30, "sigma_a": 0})")),
                       {"medium.sigma_s"});
+}
+
+TEST(Gltf, BlendAndMaskMaterialsTakeTheirAlphaFromTheTexture) {
+  TempDir dir;
+  // 2x1 texture: alpha 0.25 on the left, 1 on the right.
+  std::string blend = vs::testing::writeAlphaQuadGltf(dir.file(""), "blend", "BLEND", 0.0, 2, 1, {0.25f, 1.0f}, 2.0, 1.0);
+  std::string mask = vs::testing::writeAlphaQuadGltf(dir.file(""), "mask", "MASK", 0.5, 2, 1, {0.25f, 1.0f}, 2.0, 1.0);
+  Scene s = parse(sceneText(R"({"gltf": ")" + blend + R"("}, {"gltf": ")" + mask + R"("})"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  ASSERT_EQ(s.alphaTextures.size(), 2u);
+  const vs::Mesh& b = s.meshes[0];
+  ASSERT_EQ(b.alphaTexture, 0);
+  ASSERT_EQ(b.uvs.size(), b.positions.size());
+  EXPECT_FALSE(b.isOpaque());
+  EXPECT_LT(b.alphaCutoff, 0.0f);
+  const vs::AlphaTexture& t = s.alphaTextures[0];
+  EXPECT_NEAR(t.sample({0.25f, 0.5f}), 0.25f, 2e-3);   // left texel centre
+  EXPECT_NEAR(t.sample({0.75f, 0.5f}), 1.0f, 2e-3);    // right texel centre
+  EXPECT_NEAR(t.sample({0.5f, 0.5f}), 0.625f, 2e-3);   // halfway: bilinear
+  EXPECT_NEAR(t.sample({1.25f, 0.5f}), 0.25f, 2e-3);   // repeats
+  EXPECT_NEAR(b.opacityAt(0.25f), 0.25f, 1e-6);
+  const vs::Mesh& m = s.meshes[1];
+  EXPECT_EQ(m.alphaTexture, 1);
+  EXPECT_FLOAT_EQ(m.alphaCutoff, 0.5f);
+  EXPECT_EQ(m.opacityAt(0.25f), 0.0f);  // cut out
+  EXPECT_EQ(m.opacityAt(0.75f), 1.0f);  // opaque
+  // The texture is part of the content hash.
+  std::string before = s.contentHash;
+  vs::testing::writeAlphaQuadGltf(dir.file(""), "blend", "BLEND", 0.0, 2, 1, {0.5f, 1.0f}, 2.0, 1.0);
+  EXPECT_NE(parse(sceneText(R"({"gltf": ")" + blend + R"("}, {"gltf": ")" + mask + R"("})")).contentHash, before);
+  // A texture that cannot be decoded is a one-line error naming the image.
+  dir.write("blend.png", "not a png");
+  expectErrorMentions(loadError(dir, sceneText(R"({"gltf": ")" + blend + R"("})")), {"image 0", "blend.png"});
 }
