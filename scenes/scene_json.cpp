@@ -141,14 +141,20 @@ glm::vec3 readLightDirection(ObjectReader& light, const glm::vec3* position) {
 Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& hasher) {
   Light l;
   light.declare({"type", "position", "direction", "target", "color", "intensity", "spot_inner_deg", "spot_outer_deg",
-                 "texture", "width", "height", "radius", "tangent", "two_sided"});
+                 "texture", "width", "height", "radius", "tangent", "two_sided", "power"});
   light.required("type");
   std::string type = light.choice("type", {"point", "spot", "directional", "rect", "disk"}, "");
   for (LightType t : {LightType::Point, LightType::Spot, LightType::Directional, LightType::Rect, LightType::Disk})
     if (type == lightTypeName(t)) l.type = t;
   l.color = light.vec3("color", glm::vec3(1.0f), Range::atLeast(0.0));
-  // Bounded so that intensity times any coefficient and 1/r^2 stays a finite float.
-  l.intensity = float(light.number("intensity", Range::closed(0.0, 1e20)));
+  // Bounded so that intensity times any coefficient and 1/r^2 stays a finite float. Area lights may
+  // give their power instead (converted below, once the area is known).
+  bool byPower = isAreaLight(l.type) && light.has("power") && !light.has("intensity");
+  if (!isAreaLight(l.type)) light.forbid("power", "only area lights take a power (give intensity)");
+  if (isAreaLight(l.type) && light.has("power") && light.has("intensity"))
+    light.fail("power", "give either intensity (radiance) or power, not both");
+  l.intensity = byPower ? 0.0f : float(light.number("intensity", Range::closed(0.0, 1e20)));
+  double power = byPower ? light.number("power", Range::closed(0.0, 1e20)) : 0.0;
   const std::string spotOnly = "only used by spot lights";
   if (l.type == LightType::Point) {
     l.position = light.vec3("position", Range::any());
@@ -181,6 +187,8 @@ Light readLight(ObjectReader light, const std::string& baseDir, ContentHasher& h
     if (!(glm::length(tangent) > 1e-6f)) light.fail("tangent", "must not be zero or parallel to the light's direction");
     l.tangent = glm::normalize(tangent);
     l.twoSided = light.boolean("two_sided", false);
+    // Lambertian emitter: power = pi L A one-sided, 2 pi L A two-sided.
+    if (byPower) l.intensity = float(power / ((l.twoSided ? 2.0 : 1.0) * 3.14159265358979323846 * double(l.area())));
     if (light.has("texture")) light.fail("texture", "area lights take no texture");
   } else {
     glm::vec3 position;

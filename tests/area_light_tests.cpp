@@ -50,6 +50,30 @@ TEST_F(AreaLightTest, DiskOnAxisMatchesQuadrature) {
   EXPECT_NEAR(ref.inscatter.at(4, 4)[0], expected, 1e-2 * expected);
 }
 
+TEST_F(AreaLightTest, TinyDiskOnItsAxisIsThePointLight) {
+  // Along the axis the emission cosine is 1, so a disk of radius 1e-4 and radiance L is the point
+  // light of intensity L pi r^2 there.
+  const char* common = R"("camera": {"position": [0, 0, 0], "target": [0, 5, 0], "up": [0, 0, 1], "fov_y_deg": 10, "near": 0.1, "far": 4.5},
+    "medium": {"sigma_s": 0.1, "sigma_a": 0.02}, "geometry": [])";
+  double radius = 1e-4, L = 8.0 / (M_PI * radius * radius);
+  Scene disk = sceneFromJson(std::string("{") + common + R"(, "light": {"type": "disk", "position": [0, 5, 0], "direction": [0, -1, 0], "radius": 1e-4, "intensity": )" +
+                             std::to_string(L) + "}}");
+  Scene point = sceneFromJson(std::string("{") + common + R"(, "light": {"type": "point", "position": [0, 5, 0], "intensity": 8}})");
+  const int W = 9, H = 9;
+  GroundTruthOptions options;
+  options.width = W;
+  options.height = H;
+  options.steps = 1024;
+  options.lightSamples = 16;
+  GroundTruth gtDisk = renderGroundTruth(disk, options), gtPoint = renderGroundTruth(point, options);
+  MethodRun gpuDisk = renderScene(disk, "raymarch:steps=1024:light_samples=4:light_sm=64", W, H);
+  MethodRun gpuPoint = renderScene(point, "raymarch:steps=1024", W, H);
+  ASSERT_EQ(gpuDisk.status, RunStatus::Success) << gpuDisk.reason;
+  double expected = gtPoint.inscatter.at(4, 4)[0];
+  EXPECT_NEAR(gtDisk.inscatter.at(4, 4)[0], expected, 1e-5 * expected);
+  EXPECT_NEAR(gpuDisk.inscatter.at(4, 4)[0], gpuPoint.inscatter.at(4, 4)[0], 1e-4 * expected);
+}
+
 TEST_F(AreaLightTest, TinyLightMatchesItsCosineLobedPoint) {
   // A rect light of side 1e-4 is a point light of on-axis intensity L A with a cosine lobe: the
   // ray-marched image (4 light samples) matches the exact ground truth, shadows included.

@@ -11,6 +11,10 @@ class MinmaxMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> approximations() const override {
+    return {"visibility from the nearest texel of the rectified shadow map (no PCF)",
+            "each pixel integrates its nearest epipolar slice"};
+  }
   std::vector<std::string> qualityLadder() const override;
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;

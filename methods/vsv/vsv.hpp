@@ -94,6 +94,9 @@ class VsvMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> approximations() const override {
+    return {"visibility quantised to the epipolar voxel grid"};
+  }
   std::vector<std::string> qualityLadder() const override;
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   void setup(const SetupContext& context, const ParamValues& params) override;

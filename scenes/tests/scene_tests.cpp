@@ -832,6 +832,15 @@ TEST(AreaLights, RectAndDiskAreReadWithUnitsAndSampled) {
                       {"light.width"});
   expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0, 4, 0], "radius": 1, "intensity": 1})")),
                       {"light.radius", "area"});
+  // Power instead of radiance: a one-sided Lambertian emitter of area A radiates pi L A.
+  Scene byPower = parse(sceneText("", R"("light": {"type": "rect", "position": [0, 4, 0], "direction": [0, -1, 0], "width": 2, "height": 0.5, "power": 31.4159265})"));
+  EXPECT_NEAR(byPower.light.intensity, 10.0f, 1e-4);
+  Scene twoSided = parse(sceneText("", R"("light": {"type": "rect", "position": [0, 4, 0], "direction": [0, -1, 0], "width": 2, "height": 0.5, "power": 31.4159265, "two_sided": true})"));
+  EXPECT_NEAR(twoSided.light.intensity, 5.0f, 1e-4);
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "rect", "position": [0, 4, 0], "direction": [0, -1, 0], "width": 1, "height": 1, "power": 1, "intensity": 1})")),
+                      {"light.power", "not both"});
+  expectErrorMentions(loadError(dir, sceneText("", R"("light": {"type": "point", "position": [0, 4, 0], "power": 1, "intensity": 1})")),
+                      {"light.power"});
 }
 
 TEST(SceneErrors, ValuesThatCannotRenderFiniteAreRejected) {
