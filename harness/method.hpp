@@ -49,8 +49,12 @@ class Method {
   virtual std::vector<ParamSpec> params() const = 0;
   // Parameter sets for `vshadow shootout`, cheapest first (each "key=value:key=value").
   virtual std::vector<std::string> qualityLadder() const { return {""}; }
-  // Parameters that make this method the ray-marched reference; empty when it cannot be one.
-  virtual std::string referenceParams() const { return ""; }
+  // Parameters that make this method the ray-marched reference for a scene with these effects;
+  // empty when it cannot be one.
+  virtual std::string referenceParams(const Effects& effects) const {
+    (void)effects;
+    return "";
+  }
   // Why this method cannot render `scene` with `params`; empty when it can. The default is
   // missingCapability(capabilities(), effects of the scene); override only for reasons that depend
   // on the parameters, and call the default too.

@@ -143,8 +143,9 @@ Reference obtainReference(const Scene& scene, const gl::Limits& limits, const Ru
   if (spec.empty()) {
     for (const auto& info : registry) {
       auto m = info.create();
-      if (!m->referenceParams().empty()) {
-        spec = info.name + ":" + m->referenceParams() + ":sm=" + std::to_string(shadowMapSize);
+      std::string params = m->referenceParams(deriveEffects(scene));
+      if (!params.empty()) {
+        spec = info.name + ":" + params + ":sm=" + std::to_string(shadowMapSize);
         break;
       }
     }

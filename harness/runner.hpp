@@ -68,7 +68,7 @@ struct ResolvedSpec {
 };
 ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits, const MethodRegistry& registry);
 
-// The ray-marched reference: the registered method that declares referenceParams(), at the
+// The ray-marched reference: the registered method that declares referenceParams(effects), at the
 // largest shadow map of the run, cached on disk by a hash of everything that defines it.
 struct Reference {
   std::string method, params, cacheKey, cachePath;

@@ -73,8 +73,8 @@ StressSummary runStress(const std::string& methodName, const StressOptions& opti
   std::string referenceSpec;
   for (const auto& info : registeredMethods()) {
     auto m = info.create();
-    if (!m->referenceParams().empty()) {
-      referenceSpec = info.name + ":" + m->referenceParams() + ":sm=256";
+    if (!m->referenceParams(Effects{}).empty()) {
+      referenceSpec = info.name + ":" + m->referenceParams(Effects{}) + ":sm=256";
       break;
     }
   }
