@@ -9,6 +9,7 @@
 #include "scenes/content_hash.hpp"
 #include "scenes/gltf_loader.hpp"
 #include "scenes/json_reader.hpp"
+#include "scenes/obj_loader.hpp"
 #include "scenes/mesh_utils.hpp"
 #include "scenes/procedural.hpp"
 #include "scenes/scene.hpp"
@@ -249,12 +250,13 @@ struct GeometryResult {
 
 void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher, GeometryResult& out) {
   const std::string& origin = entry.location().origin;
-  entry.declare({"name", "generator", "params", "albedo", "gltf", "translate", "scale", "rotate_y_deg", "opacity",
+  entry.declare({"name", "generator", "params", "albedo", "gltf", "obj", "translate", "scale", "rotate_y_deg", "opacity",
                  "transmittance_color"});
-  bool isGenerator = entry.has("generator"), isGltf = entry.has("gltf");
+  bool isGenerator = entry.has("generator"), isGltf = entry.has("gltf"), isObj = entry.has("obj");
   std::string name = entry.string("name", "");
   const std::string gltfOnly = "only used by glTF entries", generatorOnly = "only used by generator entries";
-  if (isGenerator && isGltf) entry.fail("gltf", "an entry has either 'generator' or 'gltf', not both");
+  if (int(isGenerator) + int(isGltf) + int(isObj) > 1)
+    entry.fail(isObj ? "obj" : "gltf", "an entry has one of 'generator', 'gltf' or 'obj'");
   if (isGenerator) {
     std::string generator = entry.string("generator");
     const Json* params = entry.optional("params");
@@ -262,6 +264,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     float opacity = float(entry.number("opacity", 1.0, Range::closed(0.0, 1.0)));
     glm::vec3 transmittanceColor = entry.vec3("transmittance_color", glm::vec3(0.0f), Range::closed(0.0, 1.0));
     for (const char* key : {"translate", "scale", "rotate_y_deg"}) entry.forbid(key, gltfOnly);
+    entry.forbid("obj", "an entry has one of 'generator', 'gltf' or 'obj'");
     entry.finish();
     std::vector<Mesh> meshes = generateMeshes(generator, params ? *params : Json::object(), origin,
                                               entry.locationOf("generator").path, entry.locationOf("params").path);
@@ -304,8 +307,30 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     }
     return;
   }
-  entry.finish();  // reports a misspelt "generator"/"gltf" first
-  entry.location().fail("needs a 'generator' or a 'gltf' key");
+  if (isObj) {
+    std::string file = entry.string("obj");
+    glm::vec3 translate = entry.vec3("translate", glm::vec3(0.0f), Range::any());
+    float scale = float(entry.number("scale", 1.0, Range::above(0.0)));
+    float rotateYDeg = float(entry.number("rotate_y_deg", 0.0, Range::any()));
+    entry.forbid("params", generatorOnly);
+    entry.forbid("albedo", "OBJ entries take the albedo from their materials (Kd)");
+    entry.forbid("opacity", "OBJ entries take the opacity from their materials (d or Tr)");
+    entry.forbid("transmittance_color", "only used by generator entries");
+    entry.finish();
+    std::vector<Mesh> meshes;
+    try {
+      meshes = loadObj(resolvePath(baseDir, file), placement(translate, scale, rotateYDeg), &hasher);
+    } catch (const SceneError& e) {
+      entry.fail("obj", e.what());
+    }
+    for (Mesh& mesh : meshes) {
+      if (!name.empty()) mesh.name = name + "/" + mesh.name;
+      out.meshes.push_back(std::move(mesh));
+    }
+    return;
+  }
+  entry.finish();  // reports a misspelt "generator"/"gltf"/"obj" first
+  entry.location().fail("needs a 'generator', 'gltf' or 'obj' key");
 }
 
 std::string sceneNameFromOrigin(const std::string& origin) {

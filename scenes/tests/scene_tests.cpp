@@ -886,3 +886,45 @@ TEST(Gltf, BlendAndMaskMaterialsTakeTheirAlphaFromTheTexture) {
   dir.write("blend.png", "not a png");
   expectErrorMentions(loadError(dir, sceneText(R"({"gltf": ")" + blend + R"("})")), {"image 0", "blend.png"});
 }
+
+TEST(Obj, MeshesPerMaterialWithKdAndDissolve) {
+  TempDir dir;
+  dir.write("box.mtl", "newmtl red\nKd 0.9 0.1 0.1\nnewmtl glass\nKd 0.2 0.3 0.4\nd 0.25\nnewmtl leaf\nKd 0.1 0.8 0.1\nTr 0.6\n");
+  dir.write("box.obj",
+            "# a quad in two materials and a triangle\nmtllib box.mtl\no thing\n"
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\n"
+            "usemtl red\nf 1//1 2//1 3//1 4//1\n"
+            "usemtl glass\nf -4 -3 -2\n"
+            "usemtl leaf\nf 1/1 2/1 4/1\n");
+  const std::string entry = R"({"obj": ")" + dir.file("box.obj") + R"(", "translate": [0, 2, 0], "scale": 2})";
+  Scene s = parse(sceneText(entry));
+  ASSERT_EQ(s.meshes.size(), 3u);
+  const vs::Mesh& red = s.meshes[0];
+  EXPECT_EQ(red.triangleCount(), 2u);  // the quad, triangulated
+  EXPECT_NEAR(red.albedo.r, 0.9f, 1e-6);
+  EXPECT_TRUE(red.isOpaque());
+  EXPECT_NEAR(red.positions[2].y, 4.0f, 1e-6);  // (1, 1, 0) scaled by 2, moved up by 2
+  EXPECT_NEAR(glm::length(red.normals[0] - glm::vec3(0, 0, 1)), 0.0f, 1e-6);
+  EXPECT_FLOAT_EQ(s.meshes[1].opacity, 0.25f);
+  EXPECT_NEAR(s.meshes[2].opacity, 0.4f, 1e-6);  // Tr 0.6
+  std::string hash = s.contentHash;
+  dir.write("box.mtl", "newmtl red\nKd 0.5 0.1 0.1\nnewmtl glass\nKd 0.2 0.3 0.4\nd 0.25\nnewmtl leaf\nKd 0.1 0.8 0.1\nTr 0.6\n");
+  EXPECT_NE(parse(sceneText(entry)).contentHash, hash);  // the MTL file is part of the hash
+}
+
+TEST(Obj, MalformedLinesAndMissingFilesAreOneLineErrorsWithLineNumbers) {
+  TempDir dir;
+  auto objError = [&](const std::string& text) {
+    dir.write("bad.obj", text);
+    return loadError(dir, sceneText(R"({"obj": "bad.obj"})"));
+  };
+  expectErrorMentions(objError("v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"), {"geometry[0].obj", "bad.obj:2", "'v'", "got 2"});
+  expectErrorMentions(objError("v 0 0 0\nv 1 zero 0\n"), {"bad.obj:2", "'zero'"});
+  expectErrorMentions(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"), {"bad.obj:4", "index 4 out of range"});
+  expectErrorMentions(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"), {"bad.obj:4", "at least 3"});
+  expectErrorMentions(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n"), {"bad.obj:4", "1/x"});
+  expectErrorMentions(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2 3\n"), {"bad.obj:4", "normal index 2"});
+  expectErrorMentions(objError("mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), {"missing.mtl", "mtllib"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"obj": "nowhere.obj"})")), {"nowhere.obj"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"obj": "bad.obj", "albedo": [1, 1, 1]})")), {"geometry[0].albedo"});
+}
