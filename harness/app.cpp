@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <thread>
+#include <tuple>
 
 #include "context.hpp"
 #include "ground_truth.hpp"
@@ -134,6 +135,117 @@ struct Measured {
   MethodRun run;
   ErrorMetrics finalErr, lsErr, exactErr, exactLsErr;
   bool measured = false, exactMeasured = false;
+};
+
+// A row's scattering time: the medians of the method's own passes (the papers exclude the shared
+// shadow map, G-buffer, lighting and composite).
+double scatterMs(const MethodRun& r) {
+  double total = 0.0;
+  for (const auto& [pass, stats] : r.passStats)
+    if (!isSharedPass(pass)) total += stats.medianMs;
+  return total;
+}
+
+// Equal quality against brute force: ray marching (the registered reference method) with uniform
+// or equiangular steps, at the row's shadow-map size, bisected on its step count to reach the row's
+// L_s RMSE against the reference; and its L_s RMSE at the row's scattering time. Each baseline
+// point is measured once per run (memoised) with min(frames, 2) frames after one warm-up frame.
+class EqualQuality {
+ public:
+  struct Point {
+    double lsRmse = 0, scatterMs = 0;
+    bool ok = false;
+  };
+  struct Match {
+    int steps = 0;
+    double ms = 0, equalTimeLsRmse = 0;
+    bool reached = false, any = false;
+  };
+  static constexpr int kMaxSteps = 4096;
+
+  EqualQuality(const RunPlan& plan, const gl::Limits& limits, const MethodRegistry& registry, RunOptions options,
+               const Reference& reference, Progress& progress)
+      : plan_(plan), limits_(limits), registry_(registry), reference_(reference), progress_(progress) {
+    options.frames = std::min(options.frames, 2);
+    options.warmup = 1;
+    runner_ = std::make_unique<Runner>(plan.scene, limits, options);
+    for (const auto& info : registry)
+      if (!info.create()->referenceParams(plan.effects).empty()) {
+        baseline_ = info.name;
+        break;
+      }
+  }
+  const std::string& baseline() const { return baseline_; }
+
+  Point at(const std::string& sampling, int sm, int steps) {
+    auto key = std::make_tuple(sampling, sm, steps);
+    auto it = points_.find(key);
+    if (it != points_.end()) return it->second;
+    progress_.note("equal quality: " + baseline_ + " " + sampling + " steps=" + std::to_string(steps) +
+                   " sm=" + std::to_string(sm));
+    ResolvedSpec spec = resolveSpec(baseline_ + ":steps=" + std::to_string(steps) + ":sampling=" + sampling +
+                                        ":sm=" + std::to_string(sm),
+                                    limits_, registry_);
+    auto method = createMethod(registry_, baseline_);
+    MethodRun r = runner_->run(*method, spec.params);
+    Point p;
+    if (r.status == RunStatus::Success) {
+      p.ok = true;
+      p.lsRmse = compareImages(r.inscatter, reference_.inscatter).rmse;
+      p.scatterMs = scatterMs(r);
+    }
+    points_[key] = p;
+    return p;
+  }
+
+  // Smallest step count whose L_s RMSE is at most `target` (bisection on [1, kMaxSteps], the error
+  // taken as non-increasing in the step count), and the baseline's error at `rowMs`.
+  Match match(const std::string& sampling, int sm, double target, double rowMs) {
+    Match m;
+    Point top = at(sampling, sm, kMaxSteps);
+    if (!top.ok) return m;
+    m.any = true;
+    if (top.lsRmse > target) {
+      m.steps = kMaxSteps;  // not reached: the time is a lower bound
+      m.ms = top.scatterMs;
+    } else {
+      int lo = 1, hi = kMaxSteps;  // err(hi) <= target
+      if (at(sampling, sm, lo).ok && at(sampling, sm, lo).lsRmse <= target) hi = lo;
+      while (hi - lo > 1 && hi > 1) {
+        int mid = int(std::lround(std::sqrt(double(lo) * double(hi))));  // bisection in log(steps)
+        mid = std::clamp(mid, lo + 1, hi - 1);
+        Point p = at(sampling, sm, mid);
+        if (p.ok && p.lsRmse <= target) hi = mid;
+        else lo = mid;
+      }
+      m.steps = hi;
+      m.ms = at(sampling, sm, hi).scatterMs;
+      m.reached = true;
+    }
+    // Equal time: the largest step count that runs within rowMs (time taken as increasing).
+    int lo = 1, hi = kMaxSteps;
+    if (at(sampling, sm, 1).scatterMs > rowMs) {
+      m.equalTimeLsRmse = at(sampling, sm, 1).lsRmse;
+    } else {
+      while (hi - lo > 1) {
+        int mid = std::clamp(int(std::lround(std::sqrt(double(lo) * double(hi)))), lo + 1, hi - 1);
+        if (at(sampling, sm, mid).scatterMs <= rowMs) lo = mid;
+        else hi = mid;
+      }
+      m.equalTimeLsRmse = at(sampling, sm, at(sampling, sm, hi).scatterMs <= rowMs ? hi : lo).lsRmse;
+    }
+    return m;
+  }
+
+ private:
+  const RunPlan& plan_;
+  const gl::Limits& limits_;
+  const MethodRegistry& registry_;
+  const Reference& reference_;
+  Progress& progress_;
+  std::unique_ptr<Runner> runner_;
+  std::string baseline_;
+  std::map<std::tuple<std::string, int, int>, Point> points_;
 };
 
 // Checks that need no GL context: size, scene, method names, the reference spec.
@@ -341,6 +453,27 @@ Measured measureJob(Runner& runner, const Job& job, const MethodRegistry& regist
   return m;
 }
 
+// Fills the equal-quality columns of a successful, measured row (not for the baseline's own rows).
+void addEqualQuality(ResultRow& row, const Measured& m, EqualQuality& eq, const Effects& effects) {
+  const MethodRun& r = m.run;
+  if (r.status != RunStatus::Success) return;
+  double ms = scatterMs(r);
+  row.set("scatter_ms", ms);
+  if (!m.measured || r.method == eq.baseline() || eq.baseline().empty()) return;
+  std::vector<std::string> samplings = {"uniform"};
+  bool pointLike = effects.light == LightType::Point || effects.light == LightType::Spot;
+  if (pointLike) samplings.push_back("equiangular");
+  for (const std::string& sampling : samplings) {
+    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, m.lsErr.rmse, ms);
+    if (!match.any) continue;
+    // A baseline that never reaches the row's error within kMaxSteps gives a lower bound: ">=".
+    row.set("eq_" + sampling + "_steps", (match.reached ? "" : ">=") + std::to_string(match.steps));
+    row.set("eq_" + sampling + "_ms", (match.reached ? "" : ">=") + num(match.ms));
+    row.set("speedup_eq_" + sampling, (match.reached ? "" : ">=") + num(ms > 0.0 ? match.ms / ms : 0.0));
+    row.set("equal_time_ls_rmse_" + sampling, match.equalTimeLsRmse);
+  }
+}
+
 ResultRow runRow(const Measured& m, const RunPlan& plan, const RunRequest& req, const Baselines& base,
                  const std::string& timer, const std::string& renderer, const std::string& date) {
   const MethodRun& r = m.run;
@@ -427,6 +560,9 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   if (plan.haveReference) files.writeReferenceImages(base.reference, base.exposure);
 
   Runner runner(plan.scene, limits, options);
+  std::unique_ptr<EqualQuality> equalQuality;
+  if (req.equalQuality && plan.haveReference && plan.effects.scattering)
+    equalQuality = std::make_unique<EqualQuality>(plan, limits, registry, options, base.reference, progress);
   int failures = 0;
   std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr", "ssim");
   for (const Job& job : plan.jobs) {
@@ -435,7 +571,10 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
     const MethodRun& r = m.run;
     if (r.status == RunStatus::Failure) ++failures;
     files.writeImages(r, base, plan.haveReference);
-    files.addRows(runRow(m, plan, req, base, timer, info.glRenderer, date), r, plan.scene.name, timer, info.glRenderer);
+    ResultRow row = runRow(m, plan, req, base, timer, info.glRenderer, date);
+    if (r.status == RunStatus::Success) row.set("scatter_ms", scatterMs(r));
+    if (equalQuality) addEqualQuality(row, m, *equalQuality, plan.effects);
+    files.addRows(row, r, plan.scene.name, timer, info.glRenderer);
     progress.finished(jobSummary(m));
     bool ok = r.status == RunStatus::Success;
     std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", r.method.c_str(), r.params.c_str(), runStatusName(r.status),

@@ -21,6 +21,9 @@ struct RunRequest {
   bool exact = false;                // also measure against the exact-visibility ground truth
   int exactSteps = 2048;
   bool noImages = false;
+  // Equal-quality columns (--equal-quality): the brute-force baselines' step counts and times at
+  // each row's L_s error (bisection), and their error at each row's scattering time.
+  bool equalQuality = false;
   bool strictGl = false;
   std::string commandLine;
 };

@@ -46,6 +46,11 @@ glm::mat4 cubeFaceViewProj(const glm::vec3& position, int face, float nearZ, flo
   return proj * glm::lookAt(position, position + axes[face], ups[face]);
 }
 
+bool isSharedPass(const std::string& pass) {
+  return pass == "Shadow Map" || pass == "Transmittance Map" || pass == "G Buffer" || pass == "Direct Lighting" ||
+         pass == "Composite";
+}
+
 // ---- volumes
 
 std::string volumeLimitProblem(const Scene& scene, const gl::Limits& limits) {

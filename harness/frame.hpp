@@ -212,6 +212,10 @@ class SharedPasses {
   bool shadowCasters_ = true;
 };
 
+// The passes SharedPasses runs for every method ("Shadow Map", "Transmittance Map", "G Buffer",
+// "Direct Lighting", "Composite"); a method's own passes are the rest (scatter time, as the papers count).
+bool isSharedPass(const std::string& pass);
+
 // Preprocessor defines that specialise shaders to the scene's light type, light texture and phase
 // function (see common.glsl); pass them to gl::buildProgram.
 std::string sceneDefines(const Effects& effects);

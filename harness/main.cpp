@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1 << 20));
     cmd->add_flag("--no-reference", r.noReference, "skip the reference and the error metrics");
     cmd->add_flag("--no-images", r.noImages, "write no images");
+    cmd->add_flag("--equal-quality", r.equalQuality,
+                  "add the equal-quality columns: brute-force ray marching (uniform and equiangular) bisected on its "
+                  "step count to each row's L_s error, and its error at each row's scattering time");
     cmd->add_flag("--strict-gl", r.strictGl, "treat any GL debug error as fatal");
   };
   auto* runCmd = app.add_subcommand("run", "run the given methods on one scene");

@@ -37,7 +37,9 @@ const std::vector<std::string>& runsColumns() {
       "scene", "method", "params", "status", "reason", "effects", "passes", "approximations", "setup_ms",
       "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable", "rmse", "relmse", "psnr",
       "ssim", "max_abs", "max_abs_x", "max_abs_y", "ls_rmse", "ls_relmse", "ls_psnr", "ls_ssim", "ls_max_abs",
-      "nonfinite_pixels", "method_stats", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
+      "nonfinite_pixels", "method_stats", "scatter_ms", "eq_uniform_steps", "eq_uniform_ms", "speedup_eq_uniform",
+      "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "speedup_eq_equiangular",
+      "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
       "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
   return columns;
 }

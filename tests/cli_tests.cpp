@@ -189,3 +189,50 @@ TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
 
 }  // namespace
 }  // namespace vs::testing
+
+namespace vs::testing {
+namespace {
+
+TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
+  std::string dir = makeTempDir("equal-quality");
+  CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--method", "minmax", "--size", "48x36", "--frames",
+                                "1", "--warmup", "0", "--no-images", "--equal-quality", "--out", dir + "/out", "--cache",
+                                dir + "/cache"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto rows = CsvTable::parse(readFile(dir + "/out/runs.csv"));
+  ASSERT_GT(rows.size(), 1u);
+  auto col = [&](const std::string& name) {
+    auto it = std::find(rows[0].begin(), rows[0].end(), name);
+    EXPECT_NE(it, rows[0].end()) << name;
+    return size_t(it - rows[0].begin());
+  };
+  for (size_t i = 1; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    ASSERT_EQ(row[col("status")], "Success") << row[col("reason")];
+    double scatter = std::stod(row[col("scatter_ms")]);
+    EXPECT_GT(scatter, 0.0);
+    EXPECT_LT(scatter, std::stod(row[col("frame_median_ms")]) + 1e-9);  // the method's own passes only
+    // A point light: both baselines, uniform (the papers') and equiangular (the strong one).
+    for (const char* baseline : {"uniform", "equiangular"}) {
+      std::string steps = row[col(std::string("eq_") + baseline + "_steps")];
+      ASSERT_FALSE(steps.empty()) << baseline;
+      int n = std::stoi(steps.rfind(">=", 0) == 0 ? steps.substr(2) : steps);
+      EXPECT_GE(n, 1);
+      EXPECT_LE(n, 4096);
+      std::string speedup = row[col(std::string("speedup_eq_") + baseline)];
+      EXPECT_GT(std::stod(speedup.rfind(">=", 0) == 0 ? speedup.substr(2) : speedup), 0.0);
+      EXPECT_FALSE(row[col(std::string("equal_time_ls_rmse_") + baseline)].empty());
+    }
+  }
+  // Without the flag the columns stay empty (the bisection costs baseline runs).
+  CommandResult plain = runVshadow({"run", "--scene", "spheres", "--method", "minmax", "--size", "32x24", "--frames", "1",
+                                    "--warmup", "0", "--no-images", "--out", dir + "/plain", "--cache", dir + "/cache"});
+  ASSERT_EQ(plain.exitCode, 0) << plain.err;
+  auto plainRows = CsvTable::parse(readFile(dir + "/plain/runs.csv"));
+  ASSERT_EQ(plainRows.size(), 2u);
+  EXPECT_TRUE(plainRows[1][col("eq_uniform_steps")].empty());
+  EXPECT_FALSE(plainRows[1][col("scatter_ms")].empty());
+}
+
+}  // namespace
+}  // namespace vs::testing
