@@ -156,6 +156,14 @@ Sweep loadSweep(const std::string& path, const MethodRegistry& registry) {
   for (size_t i = 0; i < sceneEntries.size(); ++i) {
     std::string scene = sceneEntries[i];
     if (!isBuiltinScene(scene)) {
+      bool looksLikeName = scene.find('/') == std::string::npos && fs::path(scene).extension() != ".json";
+      if (looksLikeName && !fs::exists(base / scene)) {
+        try {
+          loadScene(scene);  // names the built-in scenes in its message
+        } catch (const SceneError& e) {
+          r.locationOf("scenes").item(i).fail(e.what());
+        }
+      }
       fs::path p(scene);
       if (p.is_relative()) p = base / p;
       scene = p.lexically_normal().string();
@@ -365,7 +373,8 @@ int sweepPlanCommand(const std::string& file, const SweepOptions& options, const
     }
     for (const Shard& s : shards) {
       if (options.pendingOnly && !options.out.empty() && shardFinished(options.out + "/" + s.id, s)) continue;
-      std::printf("%d %s %s\n", s.index, s.id.c_str(), (s.ladder ? "ladder:" + s.method : s.method).c_str());
+      std::printf("%d\t%s\t%s\t%s\t%lld\t%s\n", s.index, s.id.c_str(), s.scene.c_str(), s.size.c_str(), s.seed,
+                  (s.ladder ? "ladder:" + s.method : s.method).c_str());
     }
     return 0;
   } catch (const UsageError& e) {

@@ -65,7 +65,8 @@ struct SweepOptions {
   std::string scene;            // reference: the scene whose references to fill
 };
 
-// vshadow sweep plan FILE [--out OUT [--pending]]: prints "index id method-entry" per shard;
+// vshadow sweep plan FILE [--out OUT [--pending]]: prints one tab-separated line per shard: index,
+// id, scene, size, seed, method entry ("ladder:NAME" or a spec);
 // with --out also writes OUT/sweep.json (the normalized sweep the shards run from).
 int sweepPlanCommand(const std::string& file, const SweepOptions& options, const MethodRegistry& registry);
 // vshadow sweep run FILE OUT [--shard ID|INDEX]...: runs the shards in order, skipping finished ones.
