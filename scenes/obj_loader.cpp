@@ -116,6 +116,9 @@ std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, C
   if (!reader.ParseFromString(text, mtlText, config))
     throwSceneError(path, "", "invalid OBJ: " + oneLine(reader.Error()));
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  // The line check above and tinyobjloader may read an odd line differently (a line starting with
+  // a vertical tab, say): every index is checked again against what tinyobjloader read.
+  const size_t vertexCount = attrib.vertices.size() / 3, normalCount = attrib.normals.size() / 3;
   const std::vector<tinyobj::material_t>& materials = reader.GetMaterials();
   std::vector<Mesh> meshes;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
@@ -145,7 +148,11 @@ std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, C
       auto& vertexMap = vertexMaps[found->second - firstMesh];
       if (count == 3) {
         for (size_t k = 0; k < 3; ++k) {
+          if (offset + k >= shape.mesh.indices.size()) throwSceneError(path, "", "invalid OBJ: a face has too few indices");
           const tinyobj::index_t& idx = shape.mesh.indices[offset + k];
+          if (idx.vertex_index < 0 || size_t(idx.vertex_index) >= vertexCount ||
+              (idx.normal_index >= 0 && size_t(idx.normal_index) >= normalCount))
+            throwSceneError(path, "", "invalid OBJ: a face refers to a vertex or normal that is not in the file");
           auto key = std::make_pair(idx.vertex_index, idx.normal_index);
           auto it = vertexMap.find(key);
           if (it == vertexMap.end()) {

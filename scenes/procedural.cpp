@@ -11,6 +11,15 @@
 
 namespace vs {
 
+uint64_t mix64(uint64_t x) {
+  x ^= x >> 31;
+  x *= 0x7fb5d329728ea185ull;
+  x ^= x >> 27;
+  x *= 0x81dadef4bc2dd44dull;
+  x ^= x >> 33;
+  return x;
+}
+
 namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
@@ -149,16 +158,6 @@ class Random {
  private:
   std::mt19937 engine_;
 };
-
-// Integer mixing (xorshift-multiply) for seeds and lattice values.
-uint64_t mix64(uint64_t x) {
-  x ^= x >> 31;
-  x *= 0x7fb5d329728ea185ull;
-  x ^= x >> 27;
-  x *= 0x81dadef4bc2dd44dull;
-  x ^= x >> 33;
-  return x;
-}
 
 uint32_t deriveSeed(uint32_t seed, uint64_t index) {
   return uint32_t(mix64((uint64_t(seed) << 32) ^ (index + 0x9e3779b97f4a7c15ull)));

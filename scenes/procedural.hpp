@@ -15,6 +15,9 @@ namespace vs {
 
 // Bumped whenever a generator's output changes for the same parameters (part of the content hash).
 constexpr const char* kProceduralVersion = "procedural-v1";
+// Integer mixing (xorshift-multiply) for seeds and lattice values; shared by the generators.
+uint64_t mix64(uint64_t x);
+
 // Upper limit on the triangles one generator call may produce (guards against typos like 1e6 segments).
 constexpr uint64_t kMaxGeneratedTriangles = 20'000'000;
 // The limit in force (kMaxGeneratedTriangles unless lowered, e.g. by a fuzzer that must stay fast).

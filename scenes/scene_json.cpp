@@ -240,6 +240,19 @@ glm::mat4 placement(const glm::vec3& translate, float scale, float rotateYDeg) {
   return m;
 }
 
+// translate / scale / rotate_y_deg of a file entry (glTF or OBJ), and the keys such entries refuse.
+glm::mat4 readFilePlacement(ObjectReader& entry, const std::string& materialKeys) {
+  glm::vec3 translate = entry.vec3("translate", glm::vec3(0.0f), Range::any());
+  float scale = float(entry.number("scale", 1.0, Range::above(0.0)));
+  float rotateYDeg = float(entry.number("rotate_y_deg", 0.0, Range::any()));
+  entry.forbid("params", "only used by generator entries");
+  entry.forbid("albedo", "this entry takes the albedo from its materials (" + materialKeys + ")");
+  entry.forbid("opacity", "this entry takes the opacity from its materials (" + materialKeys + ")");
+  entry.forbid("transmittance_color", "only used by generator entries");
+  entry.finish();
+  return placement(translate, scale, rotateYDeg);
+}
+
 struct GeometryResult {
   std::vector<Mesh> meshes;
   std::vector<AlphaTexture> alphaTextures;
@@ -254,7 +267,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
                  "transmittance_color"});
   bool isGenerator = entry.has("generator"), isGltf = entry.has("gltf"), isObj = entry.has("obj");
   std::string name = entry.string("name", "");
-  const std::string gltfOnly = "only used by glTF entries", generatorOnly = "only used by generator entries";
+  const std::string gltfOnly = "only used by glTF and OBJ entries";
   if (int(isGenerator) + int(isGltf) + int(isObj) > 1)
     entry.fail(isObj ? "obj" : "gltf", "an entry has one of 'generator', 'gltf' or 'obj'");
   if (isGenerator) {
@@ -280,17 +293,10 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
   }
   if (isGltf) {
     std::string file = entry.string("gltf");
-    glm::vec3 translate = entry.vec3("translate", glm::vec3(0.0f), Range::any());
-    float scale = float(entry.number("scale", 1.0, Range::above(0.0)));
-    float rotateYDeg = float(entry.number("rotate_y_deg", 0.0, Range::any()));
-    entry.forbid("params", generatorOnly);
-    entry.forbid("albedo", "glTF entries take the albedo from their materials (baseColorFactor)");
-    entry.forbid("opacity", "glTF entries take the opacity from their materials (alphaMode, baseColorFactor alpha)");
-    entry.forbid("transmittance_color", "only used by generator entries");
-    entry.finish();
+    glm::mat4 where = readFilePlacement(entry, "baseColorFactor, alphaMode");
     GltfContent content;
     try {
-      content = loadGltf(resolvePath(baseDir, file), placement(translate, scale, rotateYDeg), &hasher);
+      content = loadGltf(resolvePath(baseDir, file), where, &hasher);
     } catch (const SceneError& e) {
       entry.fail("gltf", e.what());
     }
@@ -309,17 +315,10 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
   }
   if (isObj) {
     std::string file = entry.string("obj");
-    glm::vec3 translate = entry.vec3("translate", glm::vec3(0.0f), Range::any());
-    float scale = float(entry.number("scale", 1.0, Range::above(0.0)));
-    float rotateYDeg = float(entry.number("rotate_y_deg", 0.0, Range::any()));
-    entry.forbid("params", generatorOnly);
-    entry.forbid("albedo", "OBJ entries take the albedo from their materials (Kd)");
-    entry.forbid("opacity", "OBJ entries take the opacity from their materials (d or Tr)");
-    entry.forbid("transmittance_color", "only used by generator entries");
-    entry.finish();
+    glm::mat4 where = readFilePlacement(entry, "Kd, d or Tr");
     std::vector<Mesh> meshes;
     try {
-      meshes = loadObj(resolvePath(baseDir, file), placement(translate, scale, rotateYDeg), &hasher);
+      meshes = loadObj(resolvePath(baseDir, file), where, &hasher);
     } catch (const SceneError& e) {
       entry.fail("obj", e.what());
     }

@@ -1,5 +1,7 @@
 #include "scenes/volume.hpp"
 
+#include "scenes/procedural.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -8,21 +10,12 @@ namespace vs {
 
 namespace {
 
-uint64_t mixBits(uint64_t x) {
-  x ^= x >> 31;
-  x *= 0x7fb5d329728ea185ull;
-  x ^= x >> 27;
-  x *= 0x81dadef4bc2dd44dull;
-  x ^= x >> 33;
-  return x;
-}
-
 // 3D value noise in [0, 1) with quintic interpolation between hashed lattice values.
 double valueNoise3(double x, double y, double z, uint32_t seed) {
   double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
   auto lattice = [&](double ix, double iy, double iz) {
-    uint64_t key = mixBits(uint64_t(int64_t(ix)) * 0x9e3779b97f4a7c15ull ^ mixBits(uint64_t(int64_t(iy)) + 0x632be5ab) ^
-                           mixBits(uint64_t(int64_t(iz)) * 0xd6e8feb86659fd93ull) ^ (uint64_t(seed) << 17));
+    uint64_t key = mix64(uint64_t(int64_t(ix)) * 0x9e3779b97f4a7c15ull ^ mix64(uint64_t(int64_t(iy)) + 0x632be5ab) ^
+                           mix64(uint64_t(int64_t(iz)) * 0xd6e8feb86659fd93ull) ^ (uint64_t(seed) << 17));
     return double(key >> 11) * (1.0 / 9007199254740992.0);
   };
   auto fade = [](double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); };
