@@ -253,6 +253,7 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
     entry["timer"] = in.meta.contains("timer") ? in.meta["timer"].value("strategy", "") : "";
     entry["git_sha"] = metaString(in.meta, "git_sha");
     entry["date"] = metaString(in.meta, "date");
+    entry["meta"] = in.meta;  // the shard's own meta.json: command line, GL, CPU, timer calibration, reference
     shardsMeta.push_back(entry);
     if (failureRows > 0)
       std::fprintf(stderr, "vshadow merge: shard %s: %d row(s) are failures (see their reason column)\n", in.id.c_str(),

@@ -234,6 +234,59 @@ TEST(SweepRunTest, AFolderWithoutAMarkerIsNotOverwritten) {
   EXPECT_EQ(readFile(out + "/spheres-16x16-s2-raymarch_steps-4/runs.csv"), "mine\n");
 }
 
+TEST(SweepRunTest, ReferenceCommandFillsTheCacheEveryShardReads) {
+  std::string dir = makeTempDir("sweep-ref");
+  std::string file = writeSweep(dir, kTinySweep);
+  std::string cache = dir + "/cache";
+  CommandResult r = runVshadow({"sweep", "reference", file, "--scene", "spheres", "--cache", cache});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("reference spheres 16x16 seed 2: computed"), std::string::npos) << r.out;
+  r = runVshadow({"sweep", "run", file, dir + "/out", "--cache", cache});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (const auto& shard : entries(dir + "/out")) {
+    if (!fs::is_directory(shard)) continue;
+    EXPECT_EQ(json::parse(readFile(shard + "/meta.json"))["reference"]["from_cache"], true) << shard;
+  }
+  r = runVshadow({"sweep", "reference", file, "--scene", "fence", "--cache", cache});
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--scene 'fence': not a scene of"), std::string::npos) << r.err;
+}
+
+// The Slurm submission without a cluster: the sbatch calls it would make.
+TEST(SlurmSweepTest, DryRunSubmitsAReferenceJobPerSceneThenADependentArray) {
+  std::string dir = makeTempDir("sweep-dry");
+  std::string file = writeSweep(dir, R"({"scenes": ["spheres", "fence"], "methods": ["raymarch:steps=4", "minmax"],
+                                         "sizes": ["16x16"], "frames": 1, "warmup": 0})");
+  std::string out = dir + "/out";
+  std::string command = std::string(VS_SOURCE_DIR) + "/scripts/slurm-sweep --dry-run --gres gpu:1 --partition gpus " +
+                        "--max-parallel 2 --vshadow " + vshadowPath() + " " + file + " " + out + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string text;
+  char buf[4096];
+  while (size_t n = std::fread(buf, 1, sizeof buf, pipe)) text.append(buf, n);
+  ASSERT_EQ(::pclose(pipe), 0) << text;
+  std::vector<std::string> sbatch, submitted;
+  for (const auto& line : lines(text)) {
+    if (line.rfind("sbatch ", 0) == 0) sbatch.push_back(line);
+    if (line.rfind("submitted ", 0) == 0) submitted.push_back(line);
+  }
+  ASSERT_EQ(sbatch.size(), 3u) << text;
+  ASSERT_EQ(submitted.size(), 3u) << text;
+  EXPECT_NE(sbatch[0].find("sweep reference " + out + "/sweep.json --scene spheres"), std::string::npos) << sbatch[0];
+  EXPECT_NE(sbatch[1].find("--scene fence"), std::string::npos) << sbatch[1];
+  for (const auto& s : sbatch) {
+    EXPECT_NE(s.find("--gres=gpu:1"), std::string::npos) << s;
+    EXPECT_NE(s.find("--partition=gpus"), std::string::npos) << s;
+  }
+  EXPECT_NE(sbatch[2].find("--array=0,1,2,3%2"), std::string::npos) << sbatch[2];
+  EXPECT_NE(sbatch[2].find("--dependency=afterok:"), std::string::npos) << sbatch[2];
+  EXPECT_NE(sbatch[2].find("SLURM_ARRAY_TASK_ID"), std::string::npos) << sbatch[2];
+  EXPECT_EQ(submitted[2].rfind("submitted array ", 0), 0u);
+  EXPECT_EQ(submitted[2].substr(submitted[2].rfind(' ') + 1), "4");
+  EXPECT_TRUE(fs::exists(out + "/sweep.json"));
+}
+
 class MergeTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
