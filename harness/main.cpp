@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "app.hpp"
+#include "merge.hpp"
+#include "sweep.hpp"
 #include "methods/registry.hpp"
 
 int main(int argc, char** argv) {
@@ -47,6 +49,33 @@ int main(int argc, char** argv) {
   addCommon(shootCmd, shootout);
   shootCmd->add_option("--method", shootout.methods, "only these methods (by name; repeatable)");
 
+  // Sweeps (harness/sweep.hpp) and merging their shards (harness/merge.hpp).
+  std::string sweepFile;
+  vs::SweepOptions sweepOptions;
+  auto* sweepCmd = app.add_subcommand("sweep", "plan or run a sweep file shard by shard (README \"Sweeps\")");
+  sweepCmd->require_subcommand(1);
+  auto* planCmd = sweepCmd->add_subcommand("plan", "print the shards of a sweep file: index, stable id, methods");
+  planCmd->add_option("FILE", sweepFile, "sweep file (.json)")->required();
+  planCmd->add_option("--out", sweepOptions.out, "also write OUT/sweep.json, the normalized sweep the shards run from");
+  planCmd->add_flag("--pending", sweepOptions.pendingOnly, "only the shards not finished in --out");
+  auto* sweepRunCmd = sweepCmd->add_subcommand("run", "run the shards into OUT/<id>/ in order, skipping finished ones");
+  sweepRunCmd->add_option("FILE", sweepFile, "sweep file (.json)")->required();
+  sweepRunCmd->add_option("OUT", sweepOptions.out, "the sweep's folder")->required();
+  sweepRunCmd->add_option("--shard", sweepOptions.only, "only this shard (id or index; repeatable)");
+  sweepRunCmd->add_option("--cache", sweepOptions.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");
+  auto* sweepRefCmd = sweepCmd->add_subcommand("reference", "fill the reference cache for one scene of a sweep");
+  sweepRefCmd->add_option("FILE", sweepFile, "sweep file (.json)")->required();
+  sweepRefCmd->add_option("--scene", sweepOptions.scene, "the scene (as named in the sweep file)")->required();
+  sweepRefCmd->add_option("--cache", sweepOptions.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");
+  vs::MergeRequest merge;
+  merge.commandLine = run.commandLine;
+  auto* mergeCmd = app.add_subcommand("merge", "merge result folders (a sweep's shards) into one runs.csv, passes.csv, meta.json");
+  mergeCmd->add_option("INPUT", merge.inputs, "shard or result folders; a sweep.json among them names the shards expected")
+      ->required();
+  mergeCmd->add_option("--out", merge.out, "folder for the merged tables")->required();
+  mergeCmd->add_flag("--allow-mixed-renderers", merge.allowMixedRenderers,
+                     "merge rows of one scene, size and seed that come from different renderers");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -58,6 +87,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (app.got_subcommand("list")) return vs::listCommand(vs::registeredMethods());
+  if (planCmd->parsed()) return vs::sweepPlanCommand(sweepFile, sweepOptions, vs::registeredMethods());
+  if (sweepRunCmd->parsed()) return vs::sweepRunCommand(sweepFile, sweepOptions, vs::registeredMethods());
+  if (sweepRefCmd->parsed()) return vs::sweepReferenceCommand(sweepFile, sweepOptions, vs::registeredMethods());
+  if (mergeCmd->parsed()) return vs::mergeCommand(merge, vs::registeredMethods());
   if (app.got_subcommand("run")) return vs::runCommand(run, false, vs::registeredMethods());
   return vs::runCommand(shootout, true, vs::registeredMethods());
 }
