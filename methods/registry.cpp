@@ -1,6 +1,7 @@
 // Every method the harness can run: adding a method is its folder plus one line here.
 #include "registry.hpp"
 
+#include "dsm/dsm.hpp"
 #include "minmax/minmax.hpp"
 #include "raymarch/raymarch.hpp"
 #include "vsv/vsv.hpp"
@@ -17,6 +18,7 @@ const MethodRegistry& registeredMethods() {
       entry<RaymarchMethod>(),
       entry<MinmaxMethod>(),
       entry<VsvMethod>(),
+      entry<DsmMethod>(),
   };
   return methods;
 }

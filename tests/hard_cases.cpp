@@ -162,6 +162,20 @@ std::vector<HardCase> build() {
   json single = {{"dims", {1, 1, 1}}, {"density", {0.5}}, {"box_min", vec(-2, 0, -2)}, {"box_max", vec(2, 2, 0)},
                  {"sigma_s", 0.5}, {"sigma_a", 0.1}};
   cases.push_back(make("volume_1x1x1", withVolume(single)));
+  json aroundLight = bucky;  // the light (0, 3, -2) inside the box
+  aroundLight["box_min"] = vec(-1, 2, -3);
+  aroundLight["box_max"] = vec(1, 4, -1);
+  cases.push_back(make("light_inside_volume", withVolume(aroundLight)));
+  json behind = bucky;  // the camera (0, 1.5, 6) looks towards -z
+  behind["box_min"] = vec(-1, 0.5, 7);
+  behind["box_max"] = vec(1, 2.5, 9);
+  cases.push_back(make("volume_behind_camera", withVolume(behind)));
+  json grazing = bucky;  // the box's top face in the plane of the light
+  grazing["box_max"] = vec(0.5, 3.0, 1);
+  cases.push_back(make("light_grazing_volume", withVolume(grazing)));
+  json huge = {{"generator", "cloud"}, {"scale", 0.5}, {"seed", 5}, {"box_min", vec(-60, -1, -60)},
+               {"box_max", vec(60, 25, 60)}, {"sigma_s", 0.1}, {"sigma_a", 0.01}};
+  cases.push_back(make("volume_larger_than_view", withVolume(huge)));
 
   // Semi-transparent occluders (methods without them skip).
   for (double opacity : {0.0, 0.5, 1.0}) {

@@ -62,6 +62,17 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
     medium["g"] = r.uniform(-0.9, 0.9);
   }
   scene["medium"] = medium;
+  if (r.chance(0.3)) {  // volume data, for the methods that march it
+    const char* generators[] = {"density_box", "bucky", "rods", "cloud"};
+    json lo = r.point(-4, 2, -0.5, 3);
+    json hi = json::array({lo[0].get<double>() + r.logUniform(0.05, 8), lo[1].get<double>() + r.logUniform(0.05, 8),
+                           lo[2].get<double>() + r.logUniform(0.05, 8)});
+    scene["volumes"] = json::array({{{"generator", generators[int(r.uniform(0, 3.999))]},
+                                     {"box_min", lo},
+                                     {"box_max", hi},
+                                     {"sigma_s", r.logUniform(1e-3, 20)},
+                                     {"sigma_a", r.chance(0.3) ? 0.0 : r.logUniform(1e-3, 5)}}});
+  }
   return parseSceneJson(scene.dump(), ".", "stress config " + std::to_string(seed) + "/" + std::to_string(index));
 }
 

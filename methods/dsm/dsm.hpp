@@ -1,0 +1,55 @@
+// Deep shadow maps from volume data on the GPU (Shook): per light texel, the depths at which the
+// volumes' accumulated opacity crosses K thresholds, and the final opacity; the camera ray then
+// marches the volumes and reads light transmittance from the map.
+#pragma once
+#include <array>
+
+#include "harness/method.hpp"
+
+namespace vs {
+
+namespace dsm {
+
+// The light views the map is rendered in, fitted to the volumes' boxes: one orthographic
+// (directional) or perspective (point/spot outside the boxes) view, or six cube faces around a
+// point/spot light inside or close to them.
+struct LightViews {
+  int faces = 1;
+  std::array<glm::mat4, 6> viewProj{};
+};
+LightViews fitLightViews(const Light& light, const glm::vec3& boxLo, const glm::vec3& boxHi, int resolution);
+
+// Opacity thresholds of K knots evenly spaced from `first` to `last` (K = 3: 0.1, 0.5, 0.9).
+std::vector<float> knotThresholds(int knots, float first, float last);
+// RGBA32F layers per face holding K knots and the final opacity.
+inline int layersFor(int knots) { return (knots + 1 + 3) / 4; }
+
+}  // namespace dsm
+
+class DsmMethod : public Method {
+ public:
+  std::string name() const override { return "dsm"; }
+  std::string description() const override;
+  Capabilities capabilities() const override;
+  std::vector<ParamSpec> params() const override;
+  std::vector<std::string> qualityLadder() const override;
+  std::vector<std::string> approximations() const override {
+    return {"volume transmittance piecewise linear between opacity knots"};
+  }
+  std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
+  bool needsSharedShadowMap() const override { return needsSharedShadowMap_; }
+  void setup(const SetupContext& context, const ParamValues& params) override;
+  void render(const Frame& frame, PassTimer& timer) override;
+  std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+
+ private:
+  int resolution_ = 512, genSteps_ = 256, viewSteps_ = 128, hazeSteps_ = 64, knots_ = 3, layers_ = 1;
+  bool jitter_ = true, surfaceShadows_ = true, needsSharedShadowMap_ = true;
+  dsm::LightViews views_;
+  gl::Texture map_;
+  gl::Framebuffer fbo_;
+  gl::Buffer ubo_;
+  gl::Program generateProgram_, marchProgram_, surfaceProgram_;
+};
+
+}  // namespace vs

@@ -1,0 +1,114 @@
+// The deep shadow map shared by its passes: DSM_KNOTS opacity knots per light texel, stored four
+// per RGBA32F layer, followed by the ray's final opacity (Shook: RGB = the 10/50/90 % depths, A =
+// the final opacity). Depths are distances from the light (directional: along its direction).
+// DSM_KNOTS and DSM_LAYERS are defined by the method.
+layout(std140, binding = 4) uniform DsmBlock {
+  mat4 faceViewProj[6];
+  mat4 faceInvViewProj[6];
+  vec4 params;         // x resolution, y faces (1 or 6), z knots
+  vec4 thresholds[4];  // opacity of knot k in thresholds[k / 4][k % 4]
+} dsm;
+layout(binding = 10) uniform sampler2DArray dsmKnots;  // layer = face * DSM_LAYERS + j
+
+float knotThreshold(int k) { return dsm.thresholds[k >> 2][k & 3]; }
+
+// Distance of x from the light along the light's rays.
+float lightDepth(vec3 x) {
+  return lightType() == LIGHT_DIRECTIONAL ? dot(x, u.lightDir.xyz) : length(x - u.lightPos.xyz);
+}
+
+// Light ray through x: origin and unit direction (depth of origin + t is the depth at parameter t).
+// Light rays from a directional light start infinitely far: their parameters may be negative.
+float lightRayStart() { return lightType() == LIGHT_DIRECTIONAL ? -3.0e38 : 0.0; }
+
+void lightRayThrough(vec3 x, out vec3 origin, out vec3 dir) {
+  if (lightType() == LIGHT_DIRECTIONAL) {
+    dir = u.lightDir.xyz;
+    origin = x - dir * dot(x, dir);  // depth 0
+  } else {
+    origin = u.lightPos.xyz;
+    vec3 d = x - origin;
+    float len = length(d);
+    dir = len > 1e-20 ? d / len : u.lightDir.xyz;
+  }
+}
+
+// [entry, exit] ray parameters (>= tMin) of the ray (origin, dir) through the union of the volume
+// boxes (entry > exit when it misses them).
+vec2 volumeSpan(vec3 origin, vec3 dir, float tMinRay) {
+  vec2 span = vec2(3.0e38, -3.0e38);
+  vec3 inv = 1.0 / mix(dir, vec3(1e-30), lessThan(abs(dir), vec3(1e-30)));
+  for (int i = 0; i < VS_VOLUMES; ++i) {
+    vec3 tLo = (vol.boxLo[i].xyz - origin) * inv, tHi = (vol.boxHi[i].xyz - origin) * inv;
+    vec3 tMin = min(tLo, tHi), tMax = max(tLo, tHi);
+    float t0 = max(max(tMin.x, tMin.y), max(tMin.z, tMinRay));
+    float t1 = min(min(tMax.x, tMax.y), tMax.z);
+    if (t1 > t0) span = vec2(min(span.x, t0), max(span.y, t1));
+  }
+  return span;
+}
+
+// DSM face holding x (the major axis around the light for six faces).
+int dsmFace(vec3 x) {
+  if (dsm.params.y < 1.5) return 0;
+  vec3 d = x - u.lightPos.xyz;
+  vec3 a = abs(d);
+  int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+}
+
+// Opacity at depth z of one texel's visibility function: piecewise linear through (entry, 0),
+// (knot k, min(threshold k, final)), (exit, final); a knot the ray never crossed sits at the exit.
+float texelOpacity(ivec3 texel, float z, float entry, float exit) {
+  float values[DSM_LAYERS * 4];
+  for (int j = 0; j < DSM_LAYERS; ++j) {
+    vec4 v = texelFetch(dsmKnots, ivec3(texel.xy, texel.z * DSM_LAYERS + j), 0);
+    values[4 * j] = v.x;
+    values[4 * j + 1] = v.y;
+    values[4 * j + 2] = v.z;
+    values[4 * j + 3] = v.w;
+  }
+  float final = values[DSM_KNOTS];
+  if (final <= 0.0 || z <= entry) return 0.0;
+  float prevDepth = entry, prevOpacity = 0.0, opacity = final;
+  bool found = false;
+  for (int k = 0; k <= DSM_KNOTS; ++k) {
+    float depth = k < DSM_KNOTS ? max(values[k], prevDepth) : max(exit, prevDepth);
+    float value = k < DSM_KNOTS ? min(knotThreshold(k), final) : final;
+    if (!found && z <= depth) {
+      float w = clamp((z - prevDepth) / max(depth - prevDepth, 1e-20), 0.0, 1.0);
+      opacity = mix(prevOpacity, value, w);
+      found = true;
+    }
+    prevDepth = depth;
+    prevOpacity = value;
+  }
+  return opacity;
+}
+
+// Transmittance of the volume data from the light to x, read from the DSM with bilinear weights
+// between the four nearest texels (each texel's visibility function evaluated at x's depth).
+float dsmTransmittance(vec3 x) {
+  int face = dsmFace(x);
+  vec4 p = dsm.faceViewProj[face] * vec4(x, 1.0);
+  if (p.w <= 1e-20) return 1.0;
+  float size = dsm.params.x;
+  vec2 st = (p.xy / p.w * 0.5 + 0.5) * size - 0.5;
+  if (any(lessThan(st, vec2(-0.5))) || any(greaterThan(st, vec2(size - 0.5)))) return 1.0;
+  vec3 origin, dir;
+  lightRayThrough(x, origin, dir);
+  vec2 span = volumeSpan(origin, dir, lightRayStart());
+  if (span.x >= span.y) return 1.0;
+  float z = lightDepth(x);
+  float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
+  float entry = base + span.x, exit = base + span.y;
+  vec2 f = fract(st);
+  ivec2 t0 = clamp(ivec2(floor(st)), ivec2(0), ivec2(int(size) - 1));
+  ivec2 t1 = min(t0 + 1, ivec2(int(size) - 1));
+  float a00 = texelOpacity(ivec3(t0.x, t0.y, face), z, entry, exit);
+  float a10 = texelOpacity(ivec3(t1.x, t0.y, face), z, entry, exit);
+  float a01 = texelOpacity(ivec3(t0.x, t1.y, face), z, entry, exit);
+  float a11 = texelOpacity(ivec3(t1.x, t1.y, face), z, entry, exit);
+  float a = mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
+  return clamp(1.0 - a, 0.0, 1.0);
+}

@@ -1,0 +1,83 @@
+#version 450 core
+// "Volume March" (Shook §4): L_s along the camera ray. VIEW_STEPS stratified samples over the ray's
+// span through the volume boxes (heterogeneous sigma_s, camera optical depth by the trapezoid
+// rule) and HAZE_STEPS over the rest of the ray, where only the homogeneous medium scatters.
+// Light reaching a sample: L_in x shadow-map (and translucency) visibility x the DSM's volume
+// transmittance.
+#include "common.glsl"
+#include "dsm.glsl"
+layout(location = 0) uniform int jitter;
+layout(location = 0) out vec4 outInscatter;
+
+vec3 inscatterAt(vec3 x, vec3 dir, float scattering) {
+  if (scattering <= 0.0) return vec3(0.0);
+  vec3 visibility = lightVisibility(x);
+  if (all(equal(visibility, vec3(0.0)))) return vec3(0.0);
+  float cosTheta = dot(lightTravelDir(x), -dir);
+  return scattering * visibility * dsmTransmittance(x) * phase(cosTheta) * lightIncident(x);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec3 dir;
+  float dist;
+  cameraRay(pixel, dir, dist);
+  vec3 eye = u.eye.xyz;
+  float offset = jitter != 0 ? random01(uvec4(uint(pixel.x), uint(pixel.y), uint(u.viewport.w), 0u)) : 0.5;
+  const float goldenRatio = 0.61803398875;
+
+  // The camera ray's span through the volumes, clipped to [0, dist].
+  vec2 span = volumeSpan(eye, dir, 0.0);
+  span = vec2(max(span.x, 0.0), min(span.y, dist));
+  bool inside = span.y > span.x;
+  float a = inside ? span.x : dist, b = inside ? span.y : dist;
+
+  // Inside the span: volume + haze, optical depth accumulated sample to sample.
+  vec3 sum = vec3(0.0);
+  float tauVolume = 0.0, sPrev = a, sigmaPrev = 0.0;
+  float dtV = (b - a) / float(VIEW_STEPS);
+  // Fixed trip counts: llvmpipe ended data-dependent loops early around nested loops.
+  if (inside) for (int i = 0; i < VIEW_STEPS; ++i) {
+    float s = a + (float(i) + (jitter != 0 ? fract(offset + float(i) * goldenRatio) : 0.5)) * dtV;
+    vec3 x = eye + dir * s;
+    vec2 c = volumeCoefficients(x);
+    if (i == 0) sigmaPrev = c.y;  // [a, first sample]: the box's face may read as outside
+    tauVolume += 0.5 * (sigmaPrev + c.y) * (s - sPrev);
+    sPrev = s;
+    sigmaPrev = c.y;
+    sum += dtV * exp(-sigmaT() * s - tauVolume) * inscatterAt(x, dir, sigmaS() + c.x);
+  }
+  tauVolume += sigmaPrev * max(b - sPrev, 0.0);
+
+  // Outside the span: the haze in front of the volumes [0, a) and behind them (b, dist]. Point and
+  // spot lights: equiangular samples over the whole ray (weight (theta_b - theta_a) r^2 / (D N),
+  // as raymarch's sampling=equiangular), those inside the span add nothing; directional: equal
+  // steps over the two pieces.
+  float front = a, back = max(dist - b, 0.0), haze = front + back;
+  bool angular = lightType() != LIGHT_DIRECTIONAL;
+  float delta = 0.0, D = 1.0, thetaA = 0.0, thetaB = 0.0;
+  if (angular) {
+    vec3 toLight = u.lightPos.xyz - eye;
+    delta = dot(toLight, dir);
+    D = max(length(toLight - delta * dir), 1e-6 * max(dist, 1.0));
+    thetaA = atan(-delta, D);
+    thetaB = atan(dist - delta, D);
+  }
+  float dtH = haze / float(max(HAZE_STEPS, 1));
+  if (haze > 0.0 && sigmaS() > 0.0) for (int i = 0; i < HAZE_STEPS; ++i) {
+    float ui = (float(i) + (jitter != 0 ? fract(offset + float(i) * 0.7548776662) : 0.5)) / float(HAZE_STEPS);
+    float s, weight;
+    if (angular) {
+      s = clamp(delta + D * tan(mix(thetaA, thetaB, ui)), 0.0, dist);
+      weight = s >= a && s <= b && inside ? 0.0 : (thetaB - thetaA) * (D * D + (s - delta) * (s - delta)) / (D * float(HAZE_STEPS));
+    } else {
+      float h = ui * haze;
+      s = h < front ? h : b + (h - front);
+      weight = dtH;
+    }
+    float tau = sigmaT() * s + (s > b ? tauVolume : 0.0);
+    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(eye + dir * s, dir, sigmaS());
+  }
+  vec3 L = all(lessThan(abs(sum), vec3(3.0e38))) ? sum : vec3(0.0);
+  outInscatter = vec4(L, exp(-tauVolume));
+}

@@ -1,0 +1,211 @@
+// dsm: knot layout and light-view fitting on the CPU; Beer-Lambert oracles through the map; error
+// against the reference on the built-in volume scenes, falling with knots and generation steps;
+// the shared shadow map skipped without meshes; clear refusals.
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <algorithm>
+#include <cstdio>
+
+#include "dsm/dsm.hpp"
+#include "gl_test.hpp"
+#include "harness/metrics.hpp"
+#include "oracles.hpp"
+
+namespace vs::testing {
+namespace {
+
+class DsmTest : public GlTest {};
+
+// ---- CPU
+
+TEST(DsmLayout, KnotsAndLayers) {
+  std::vector<float> paper = dsm::knotThresholds(3, 0.1f, 0.9f);
+  ASSERT_EQ(paper.size(), 3u);
+  EXPECT_FLOAT_EQ(paper[0], 0.1f);
+  EXPECT_FLOAT_EQ(paper[1], 0.5f);
+  EXPECT_FLOAT_EQ(paper[2], 0.9f);
+  EXPECT_EQ(dsm::layersFor(3), 1);  // the paper's single RGBA texture
+  EXPECT_EQ(dsm::layersFor(4), 2);
+  EXPECT_EQ(dsm::layersFor(8), 3);
+  EXPECT_EQ(dsm::layersFor(16), 5);
+}
+
+// Every corner of the box lands inside the fitted view (clip space), in front of the light.
+void expectBoxInside(const dsm::LightViews& v, glm::vec3 lo, glm::vec3 hi) {
+  for (int i = 0; i < 8; ++i) {
+    glm::vec3 c(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+    glm::vec4 p = v.viewProj[0] * glm::vec4(c, 1.0f);
+    ASSERT_GT(p.w, 0.0f);
+    EXPECT_LE(std::fabs(p.x / p.w), 1.0f) << "corner " << i;
+    EXPECT_LE(std::fabs(p.y / p.w), 1.0f) << "corner " << i;
+  }
+}
+
+TEST(DsmLayout, LightViewsFitTheVolumes) {
+  glm::vec3 lo(-2, 1, -1), hi(3, 2, 4);
+  Light sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  dsm::LightViews v = dsm::fitLightViews(sun, lo, hi, 512);
+  EXPECT_EQ(v.faces, 1);
+  expectBoxInside(v, lo, hi);
+  Light point;
+  point.type = LightType::Point;
+  point.position = glm::vec3(0, 12, 0);
+  v = dsm::fitLightViews(point, lo, hi, 512);
+  EXPECT_EQ(v.faces, 1);
+  expectBoxInside(v, lo, hi);
+  point.position = glm::vec3(0, 1.5f, 0);  // inside the box
+  EXPECT_EQ(dsm::fitLightViews(point, lo, hi, 512).faces, 6);
+  point.position = glm::vec3(0, 2.3f, 0);  // just above it: too wide for one view
+  EXPECT_EQ(dsm::fitLightViews(point, lo, hi, 512).faces, 6);
+}
+
+// ---- GPU
+
+// A slab of constant density between a lit ground plane and a camera above, light straight down
+// (tests/volume_tests.cpp has the same oracle for the reference).
+std::string slabScene(double sigmaS, double sigmaA, const char* light) {
+  return R"({"geometry": [{"generator": "plane", "params": {"center": [0, 0, 0], "size": [40, 40]}, "albedo": [0.6, 0.6, 0.6]}],
+    "volumes": [{"dims": [1, 1, 1], "density": [1], "box_min": [-20, 1, -20], "box_max": [20, 2, 20], "sigma_s": )" +
+         std::to_string(sigmaS) + R"(, "sigma_a": )" + std::to_string(sigmaA) + R"(}],
+    "camera": {"position": [0, 5, 0.001], "target": [0, 0, 0], "fov_y_deg": 20, "near": 0.1, "far": 20},
+    "light": )" + light + "}";
+}
+const char* kSun = R"({"type": "directional", "direction": [0, -1, 0], "intensity": 2})";
+
+TEST_F(DsmTest, AbsorbingSlabShadowsTheGroundAsBeerLambert) {
+  // Behind the slab the map's final opacity is exact (midpoint rule on a constant density), so
+  // Surface Shadows and the camera ray's transmittance reproduce exp(-k) exp(-k / c). Albedo 0.6
+  // is exact in the 8-bit G-buffer (0.5 is not: 127 or 128 / 255, 0.4 % off).
+  for (double k : {0.25, 1.0, 3.0}) {
+    Scene scene = sceneFromJson(slabScene(0.0, k, kSun));
+    MethodRun run = renderScene(scene, "dsm:res=64:gen_steps=8", 8, 6);
+    ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 8; ++x) {
+        glm::dvec3 dir;
+        double dist;
+        pixelRay(scene, 8, 6, x, y, dir, dist);
+        double expected = 0.6 / M_PI * 2.0 * std::exp(-k) * std::exp(-k / std::fabs(dir.y));
+        EXPECT_NEAR(run.final.at(x, y)[0], expected, 2e-3 * expected) << "k " << k << " pixel " << x << "," << y;
+        EXPECT_EQ(run.inscatter.at(x, y)[0], 0.0f);
+      }
+  }
+}
+
+// L_s of a scattering slab (sigma_s = sigma_t = k) lit and seen from above:
+// E / (4 pi (1 + c)) (1 - exp(-k (1 + c) / c)) (tests/volume_tests.cpp).
+double slabInscatter(double k, double E, double c) {
+  return E / (4.0 * M_PI * (1.0 + c)) * (1.0 - std::exp(-k * (1.0 + c) / c));
+}
+
+double worstSlabError(const Scene& scene, const std::string& spec, double k) {
+  MethodRun run = renderScene(scene, spec, 8, 6);
+  EXPECT_EQ(run.status, RunStatus::Success) << run.reason;
+  double worst = 0.0;
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) {
+      glm::dvec3 dir;
+      double dist;
+      pixelRay(scene, 8, 6, x, y, dir, dist);
+      double expected = slabInscatter(k, 2.0, std::fabs(dir.y));
+      worst = std::max(worst, std::fabs(run.inscatter.at(x, y)[0] - expected) / expected);
+    }
+  return worst;
+}
+
+TEST_F(DsmTest, ScatteringSlabConvergesWithKnots) {
+  // Inside the slab the light's opacity 1 - exp(-k z) is curved: knots make the piecewise-linear
+  // visibility function approach it (the 3-knot error floor of README "Accuracy").
+  const double k = 2.0;
+  Scene scene = sceneFromJson(slabScene(k, 0.0, kSun));
+  double previous = 1e30;
+  for (const char* knots : {"3", "8", "16"}) {
+    double err = worstSlabError(scene, std::string("dsm:res=64:gen_steps=512:view_steps=512:knots=") + knots, k);
+    std::printf("knots %s: worst relative L_s error %.3e\n", knots, err);
+    EXPECT_LT(err, previous) << "knots " << knots;
+    previous = err;
+  }
+  EXPECT_LT(previous, 5e-3);
+}
+
+double lsRelmse(const Scene& scene, const std::string& spec, const MethodRun& ref, int W, int H) {
+  MethodRun run = renderScene(scene, spec, W, H);
+  EXPECT_EQ(run.status, RunStatus::Success) << run.reason;
+  return compareImages(run.inscatter, ref.inscatter).relmse;
+}
+
+TEST_F(DsmTest, MatchesTheReferenceOnBuiltinVolumeScenes) {
+  const int W = 64, H = 48;
+  for (const char* name : {"volumes", "cloud"}) {
+    Scene scene = loadScene(name);
+    MethodRun ref = renderScene(scene, "raymarch:steps=1024:sampling=equiangular:vsteps=2", W, H);
+    ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
+    double three = lsRelmse(scene, "dsm", ref, W, H);
+    double eight = lsRelmse(scene, "dsm:knots=8", ref, W, H);
+    double coarse = lsRelmse(scene, "dsm:interp=bucket:knots=16:gen_steps=16", ref, W, H);
+    double fine = lsRelmse(scene, "dsm:interp=bucket:knots=16:gen_steps=256", ref, W, H);
+    std::printf("%s: L_s relMSE 3 knots %.2e, 8 knots %.2e; 16 knots, bucket, 16 steps %.2e, 256 steps %.2e\n", name, three,
+                eight, coarse, fine);
+    EXPECT_LT(three, 1e-3) << name;
+    EXPECT_LT(eight, three) << name;
+    EXPECT_LT(fine, coarse) << name;
+  }
+}
+
+TEST_F(DsmTest, LongMarchesAreNotCutShort) {
+  // Thousands of steps per invocation (shader loop limits of some drivers): the result must keep
+  // converging, not collapse.
+  Scene scene = loadScene("volumes");
+  const int W = 32, H = 24;
+  MethodRun ref = renderScene(scene, "dsm:view_steps=4096:haze_steps=4096:knots=16", W, H);
+  ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
+  double err = lsRelmse(scene, "dsm:view_steps=1024:haze_steps=1024:knots=16", ref, W, H);
+  std::printf("1024 vs 4096 steps: L_s relMSE %.2e\n", err);
+  EXPECT_LT(err, 1e-3);
+  double mean = 0.0;
+  for (float v : ref.inscatter.rgb) mean += v;
+  MethodRun low = renderScene(scene, "dsm:view_steps=64:haze_steps=64:knots=16", W, H);
+  double meanLow = 0.0;
+  for (float v : low.inscatter.rgb) meanLow += v;
+  EXPECT_NEAR(mean, meanLow, 0.02 * meanLow);
+}
+
+TEST_F(DsmTest, WithoutMeshesTheSharedShadowMapIsNotRendered) {
+  Scene scene = sceneFromJson(R"({"geometry": [],
+    "volumes": [{"generator": "bucky", "box_min": [-1, -1, -1], "box_max": [1, 1, 1], "sigma_s": 2, "sigma_a": 0.2}],
+    "camera": {"position": [0, 0, 5], "target": [0, 0, 0]},
+    "light": {"type": "point", "position": [2, 3, 2], "intensity": 40},
+    "medium": {"sigma_s": 0.02, "sigma_a": 0.0}})");
+  MethodRun run = renderScene(scene, "dsm", 32, 24);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+  EXPECT_EQ(std::count(run.passes.begin(), run.passes.end(), "Shadow Map"), 0);
+  EXPECT_EQ(std::count(run.passes.begin(), run.passes.end(), "DSM Generation"), 1);
+  MethodRun ref = renderScene(scene, "raymarch:steps=1024:sampling=equiangular:vsteps=2", 32, 24);
+  EXPECT_LT(compareImages(run.inscatter, ref.inscatter).relmse, 1e-3);
+
+  Scene withPlane = loadScene("volumes");
+  MethodRun both = renderScene(withPlane, "dsm", 16, 12);
+  ASSERT_EQ(both.status, RunStatus::Success) << both.reason;
+  EXPECT_EQ(std::count(both.passes.begin(), both.passes.end(), "Shadow Map"), 1);
+}
+
+TEST_F(DsmTest, RefusesScenesWithoutVolumesAndMapsOverTheMemoryLimit) {
+  auto method = createMethod("dsm");
+  ResolvedSpec spec = resolveSpec("dsm", glLimits());
+  std::string reason = method->unsupportedReason(loadScene("spheres"), spec.params);
+  EXPECT_NE(reason.find("volume data"), std::string::npos) << reason;
+  Scene inside = loadScene("volumes");
+  inside.light.position = glm::vec3(-5.75f, 2.25f, 0.0f);  // in the first box: six faces
+  ResolvedSpec huge = resolveSpec("dsm:res=8192:knots=16", glLimits());
+  reason = method->unsupportedReason(inside, huge.params);
+  EXPECT_NE(reason.find("MiB of deep shadow map"), std::string::npos) << reason;
+  ResolvedSpec reversed = resolveSpec("dsm:first=0.8:last=0.2", glLimits());
+  EXPECT_NE(method->unsupportedReason(inside, reversed.params).find("first must be below last"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vs::testing
