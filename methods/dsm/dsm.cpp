@@ -119,7 +119,8 @@ Capabilities DsmMethod::capabilities() const {
 
 std::vector<ParamSpec> DsmMethod::params() const {
   return {ParamSpec::integer("res", 512, 16, 8192, "DSM resolution (texels per side, per face)"),
-          ParamSpec::integer("gen_steps", 256, 1, 4096, "DSM Generation: steps along each light ray through the volumes"),
+          ParamSpec::real("gen_step", 0.5, 0.01, 64.0, "DSM Generation: step length along light rays, in voxels of the finest volume"),
+          ParamSpec::integer("gen_steps", 512, 1, 4096, "DSM Generation: most steps per light ray (the paper: 512)"),
           ParamSpec::integer("view_steps", 128, 1, 4096, "Volume March: steps along the camera ray through the volumes"),
           ParamSpec::integer("haze_steps", 64, 0, 4096,
                              "Volume March: steps over the rest of the camera ray (homogeneous medium only)"),
@@ -133,9 +134,52 @@ std::vector<ParamSpec> DsmMethod::params() const {
 }
 
 std::vector<std::string> DsmMethod::qualityLadder() const {
-  return {"res=128:gen_steps=64:view_steps=32:haze_steps=16", "res=256:gen_steps=128:view_steps=64:haze_steps=32",
-          "res=512:gen_steps=256:view_steps=128:haze_steps=64",
-          "res=512:gen_steps=512:view_steps=256:haze_steps=128:knots=8"};
+  return {"res=128:gen_step=2:view_steps=32:haze_steps=16", "res=256:gen_step=1:view_steps=64:haze_steps=32",
+          "res=512:gen_step=0.5:view_steps=128:haze_steps=64",
+          "res=512:gen_step=0.25:view_steps=256:haze_steps=128:knots=8"};
+}
+
+// Samples DSM Generation takes per frame: the shader's span and step count, texel by texel.
+static double generationSamples(const Scene& scene, const dsm::LightViews& views, int res, float stepVoxels, int maxSteps) {
+  float voxel = 3e38f;
+  for (const auto& v : scene.volumes)
+    for (int a = 0; a < 3; ++a) voxel = std::min(voxel, (v.boxHi[a] - v.boxLo[a]) / float(std::max(v.dims[a], 1)));
+  bool directional = scene.light.type == LightType::Directional;
+  double total = 0.0;
+  for (int f = 0; f < views.faces; ++f) {
+    glm::mat4 inv = glm::inverse(views.viewProj[size_t(f)]);
+    for (int y = 0; y < res; ++y)
+      for (int x = 0; x < res; ++x) {
+        glm::vec2 ndc((float(x) + 0.5f) / float(res) * 2.0f - 1.0f, (float(y) + 0.5f) / float(res) * 2.0f - 1.0f);
+        glm::vec4 n = inv * glm::vec4(ndc, -1.0f, 1.0f), fa = inv * glm::vec4(ndc, 1.0f, 1.0f);
+        glm::vec3 nearP = glm::vec3(n) / n.w, farP = glm::vec3(fa) / fa.w;
+        glm::vec3 origin, dir;
+        if (directional) {
+          dir = glm::normalize(scene.light.direction);
+          origin = nearP - dir * glm::dot(nearP, dir);
+        } else {
+          origin = scene.light.position;
+          dir = glm::normalize(farP - origin);
+        }
+        float t0 = 3e38f, t1 = -3e38f;
+        for (const auto& v : scene.volumes) {
+          float lo = directional ? -3e38f : 0.0f, hi = 3e38f;
+          for (int a = 0; a < 3; ++a) {
+            float d = std::fabs(dir[a]) < 1e-30f ? 1e-30f : dir[a];
+            float ta = (v.boxLo[a] - origin[a]) / d, tb = (v.boxHi[a] - origin[a]) / d;
+            lo = std::max(lo, std::min(ta, tb));
+            hi = std::min(hi, std::max(ta, tb));
+          }
+          if (hi > lo) {
+            t0 = std::min(t0, lo);
+            t1 = std::max(t1, hi);
+          }
+        }
+        if (t1 > t0)
+          total += std::clamp(std::ceil(std::min((t1 - t0) / std::max(voxel * stepVoxels, 1e-30f), 1e6f)), 1.0f, float(maxSteps));
+      }
+  }
+  return total;
 }
 
 std::string DsmMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
@@ -161,6 +205,7 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
     throw std::runtime_error("res=" + std::to_string(resolution_) + " exceeds GL_MAX_TEXTURE_SIZE " +
                              std::to_string(context.limits.maxTextureSize));
   genSteps_ = params.getInt("gen_steps");
+  genStep_ = float(params.getFloat("gen_step"));
   viewSteps_ = params.getInt("view_steps");
   hazeSteps_ = params.getInt("haze_steps");
   knots_ = std::stoi(params.getString("knots"));
@@ -175,6 +220,7 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   glm::vec3 lo, hi;
   unionBox(context.scene, lo, hi);
   views_ = dsm::fitLightViews(context.scene.light, lo, hi, resolution_);
+  generationSamples_ = generationSamples(context.scene, views_, resolution_, genStep_, genSteps_);
   DsmUniforms uniforms{};
   for (int f = 0; f < 6; ++f) {
     uniforms.faceViewProj[f] = views_.viewProj[size_t(f)];
@@ -199,6 +245,7 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n";
   generateProgram_ = gl::buildFullscreen("methods/dsm/shaders/generate.frag",
                                          defines + "#define GEN_STEPS " + std::to_string(genSteps_) +
+                                             "\n#define GEN_STEP_VOXELS " + std::to_string(genStep_) +
                                              "\n#define DSM_INTERP " + std::to_string(interpCode) + "\n");
   marchProgram_ = gl::buildFullscreen("methods/dsm/shaders/march.frag",
                                       defines + "#define VIEW_STEPS " + std::to_string(viewSteps_) +
@@ -244,7 +291,7 @@ void DsmMethod::render(const Frame& frame, PassTimer& timer) {
 }
 
 std::map<std::string, double> DsmMethod::stats(const std::map<std::string, TimingStats>& passes) const {
-  double samples = double(resolution_) * resolution_ * views_.faces * genSteps_;
+  double samples = generationSamples_;
   std::map<std::string, double> out{{"dsm_faces", double(views_.faces)}, {"dsm_voxel_samples", samples}};
   auto it = passes.find(kGeneration);
   if (it != passes.end() && it->second.medianMs > 0.0)

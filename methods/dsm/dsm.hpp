@@ -44,6 +44,8 @@ class DsmMethod : public Method {
 
  private:
   int resolution_ = 512, genSteps_ = 256, viewSteps_ = 128, hazeSteps_ = 64, knots_ = 3, layers_ = 1;
+  float genStep_ = 0.5f;
+  double generationSamples_ = 0.0;  // per frame, counted on the CPU in setup
   bool jitter_ = true, surfaceShadows_ = true, needsSharedShadowMap_ = true;
   dsm::LightViews views_;
   gl::Texture map_;

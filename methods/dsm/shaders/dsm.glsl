@@ -59,6 +59,22 @@ int dsmFace(vec3 x) {
 
 // Opacity at depth z of one texel's visibility function: piecewise linear through (entry, 0),
 // (knot k, min(threshold k, final)), (exit, final); a knot the ray never crossed sits at the exit.
+#if DSM_KNOTS == 3
+// The paper's layout in straight-line code (no local arrays: they cost llvmpipe a memory round trip).
+float texelOpacity(ivec3 texel, float z, float entry, float exit) {
+  vec4 v = texelFetch(dsmKnots, texel, 0);
+  float final = v.w;
+  if (final <= 0.0 || z <= entry) return 0.0;
+  float d0 = max(v.x, entry), d1 = max(v.y, d0), d2 = max(v.z, d1), d3 = max(exit, d2);
+  vec3 a = min(vec3(knotThreshold(0), knotThreshold(1), knotThreshold(2)), vec3(final));
+  float lo = entry, hi = d0, aLo = 0.0, aHi = a.x;
+  if (z > d0) { lo = d0; hi = d1; aLo = a.x; aHi = a.y; }
+  if (z > d1) { lo = d1; hi = d2; aLo = a.y; aHi = a.z; }
+  if (z > d2) { lo = d2; hi = d3; aLo = a.z; aHi = final; }
+  if (z > d3) return final;
+  return mix(aLo, aHi, clamp((z - lo) / max(hi - lo, 1e-20), 0.0, 1.0));
+}
+#else
 float texelOpacity(ivec3 texel, float z, float entry, float exit) {
   float values[DSM_LAYERS * 4];
   for (int j = 0; j < DSM_LAYERS; ++j) {
@@ -85,6 +101,7 @@ float texelOpacity(ivec3 texel, float z, float entry, float exit) {
   }
   return opacity;
 }
+#endif
 
 // Transmittance of the volume data from the light to x, read from the DSM with bilinear weights
 // between the four nearest texels (each texel's visibility function evaluated at x's depth).

@@ -1,6 +1,6 @@
 #version 450 core
 // "DSM Generation" (Shook §3): per light texel, march the light ray through the volumes
-// (GEN_STEPS equal steps over its span through the union of the boxes, midpoint rule), accumulate
+// (equal steps over its span through the union of the boxes, midpoint rule), accumulate
 // opacity 1 - exp(-tau), and store the depth at which it crosses each knot's threshold; the last
 // slot holds the final opacity. Interpolation of a crossing between the two steps around it:
 // linear in opacity, smoothstep (the paper's) or bucket (the depth before the crossing step).
@@ -22,11 +22,16 @@ void main() {
   float values[DSM_LAYERS * 4];
   for (int k = 0; k < DSM_LAYERS * 4; ++k) values[k] = 0.0;
   bool hit = span.y > span.x;
-  float dt = hit ? (span.y - span.x) / float(GEN_STEPS) : 0.0;
+  // Steps of GEN_STEP_VOXELS voxels of the finest volume, at most GEN_STEPS (the paper: a step
+  // length, at most 512 steps).
+  float voxel = 3.0e38;
+  for (int i = 0; i < VS_VOLUMES; ++i) voxel = min(voxel, vol.coeff[i].w);
+  int steps = hit ? clamp(int(ceil(min((span.y - span.x) / max(voxel * GEN_STEP_VOXELS, 1e-30), 1e6))), 1, GEN_STEPS) : 0;
+  float dt = hit ? (span.y - span.x) / float(steps) : 0.0;
   for (int k = 0; k < DSM_KNOTS; ++k) values[k] = base + (hit ? span.y : 0.0);
   float tau = 0.0, opacity = 0.0;
   uint crossed = 0u;
-  if (hit) for (int i = 0; i < GEN_STEPS; ++i) {
+  for (int i = 0; i < steps; ++i) {
     float t = span.x + (float(i) + 0.5) * dt;
     tau += volumeCoefficients(origin + dir * t).y * dt;
     float previous = opacity;

@@ -124,7 +124,7 @@ TEST_F(DsmTest, ScatteringSlabConvergesWithKnots) {
   Scene scene = sceneFromJson(slabScene(k, 0.0, kSun));
   double previous = 1e30;
   for (const char* knots : {"3", "8", "16"}) {
-    double err = worstSlabError(scene, std::string("dsm:res=64:gen_steps=512:view_steps=512:knots=") + knots, k);
+    double err = worstSlabError(scene, std::string("dsm:res=64:gen_step=0.01:view_steps=512:knots=") + knots, k);
     std::printf("knots %s: worst relative L_s error %.3e\n", knots, err);
     EXPECT_LT(err, previous) << "knots " << knots;
     previous = err;
@@ -146,9 +146,9 @@ TEST_F(DsmTest, MatchesTheReferenceOnBuiltinVolumeScenes) {
     ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
     double three = lsRelmse(scene, "dsm", ref, W, H);
     double eight = lsRelmse(scene, "dsm:knots=8", ref, W, H);
-    double coarse = lsRelmse(scene, "dsm:interp=bucket:knots=16:gen_steps=16", ref, W, H);
-    double fine = lsRelmse(scene, "dsm:interp=bucket:knots=16:gen_steps=256", ref, W, H);
-    std::printf("%s: L_s relMSE 3 knots %.2e, 8 knots %.2e; 16 knots, bucket, 16 steps %.2e, 256 steps %.2e\n", name, three,
+    double coarse = lsRelmse(scene, "dsm:interp=bucket:knots=16:gen_step=8", ref, W, H);
+    double fine = lsRelmse(scene, "dsm:interp=bucket:knots=16:gen_step=0.25", ref, W, H);
+    std::printf("%s: L_s relMSE 3 knots %.2e, 8 knots %.2e; 16 knots, bucket, steps of 8 voxels %.2e, of 0.25 %.2e\n", name, three,
                 eight, coarse, fine);
     EXPECT_LT(three, 1e-3) << name;
     EXPECT_LT(eight, three) << name;
