@@ -278,7 +278,13 @@ void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodR
     for (const auto& info : registry) {
       if (!req.methods.empty() && std::find(req.methods.begin(), req.methods.end(), info.name) == req.methods.end())
         continue;
-      for (const auto& rung : info.create()->qualityLadder()) specs.push_back(info.name + (rung.empty() ? "" : ":" + rung));
+      auto method = info.create();
+      for (const auto& rung : method->qualityLadder()) {
+        std::string spec = info.name + (rung.empty() ? "" : ":" + rung);
+        specs.push_back(spec);
+        // A method that cannot render the scene gets one row saying why, not one per rung.
+        if (!method->unsupportedReason(plan.scene, resolveSpec(spec, limits, registry).params).empty()) break;
+      }
     }
   } else {
     specs = req.methods;

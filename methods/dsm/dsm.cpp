@@ -183,9 +183,9 @@ static double generationSamples(const Scene& scene, const dsm::LightViews& views
 }
 
 std::string DsmMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
-  if (scene.volumes.empty()) return "needs volume data (a deep shadow map of the scene's volumes)";
   std::string base = Method::unsupportedReason(scene, params);
   if (!base.empty()) return base;
+  if (scene.volumes.empty()) return "needs volume data (a deep shadow map of the scene's volumes)";
   if (params.getFloat("first") >= params.getFloat("last") && std::stoi(params.getString("knots")) > 1)
     return "first must be below last (the knots' opacity thresholds increase)";
   glm::vec3 lo, hi;
