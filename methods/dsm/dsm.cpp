@@ -129,6 +129,8 @@ std::vector<ParamSpec> DsmMethod::params() const {
           ParamSpec::real("last", 0.9, 0.001, 0.999, "opacity threshold of the last knot (knots evenly spaced between)"),
           ParamSpec::choice("interp", "linear", {"linear", "smoothstep", "bucket"},
                             "crossing depth between two steps: linear in opacity, smoothstep (the paper), bucket (step before)"),
+          ParamSpec::choice("filter", "hardware", {"hardware", "texels"},
+                            "lookup: one bilinear lookup of the knots (the paper), or the four nearest texels' visibility functions blended"),
           ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
           ParamSpec::flag("surface", true, "Surface Shadows: re-shade surfaces with the DSM's transmittance")};
 }
@@ -136,7 +138,8 @@ std::vector<ParamSpec> DsmMethod::params() const {
 std::vector<std::string> DsmMethod::qualityLadder() const {
   return {"res=128:gen_step=2:view_steps=32:haze_steps=16", "res=256:gen_step=1:view_steps=64:haze_steps=32",
           "res=512:gen_step=0.5:view_steps=128:haze_steps=64",
-          "res=512:gen_step=0.25:view_steps=256:haze_steps=128:knots=8"};
+          "res=512:gen_step=0.5:view_steps=128:haze_steps=64:knots=8",
+          "res=512:gen_step=0.25:view_steps=256:haze_steps=128:knots=16"};
 }
 
 // Samples DSM Generation takes per frame: the shader's span and step count, texel by texel.
@@ -215,6 +218,7 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   // Without meshes nothing but the volumes casts shadows: the map replaces the shared shadow map.
   needsSharedShadowMap_ = !context.scene.meshes.empty();
   std::string interp = params.getString("interp");
+  bool hardwareFilter = params.getString("filter") == "hardware";
   int interpCode = interp == "smoothstep" ? 1 : interp == "bucket" ? 2 : 0;
 
   glm::vec3 lo, hi;
@@ -235,6 +239,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
   map_ = gl::Texture(id);
   glTextureStorage3D(id, 1, GL_RGBA32F, resolution_, resolution_, views_.faces * layers_);
+  GLenum filter = hardwareFilter ? GL_LINEAR : GL_NEAREST;
+  gl::setFilter(id, filter, filter);
   glCreateFramebuffers(1, &id);
   fbo_ = gl::Framebuffer(id);
   std::vector<GLenum> targets;
@@ -242,7 +248,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   glNamedFramebufferDrawBuffers(id, layers_, targets.data());
 
   std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
-                        "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n";
+                        "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
+                        (hardwareFilter ? "1" : "0") + "\n";
   generateProgram_ = gl::buildFullscreen("methods/dsm/shaders/generate.frag",
                                          defines + "#define GEN_STEPS " + std::to_string(genSteps_) +
                                              "\n#define GEN_STEP_VOXELS " + std::to_string(genStep_) +

@@ -57,12 +57,22 @@ int dsmFace(vec3 x) {
   return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
 }
 
+// Layer j of the map at a texel (DSM_FILTER 0), or filtered by the hardware at uv (DSM_FILTER 1:
+// knot depths and final opacity interpolated bilinearly, one lookup instead of four).
+vec4 dsmLayer(ivec2 texel, vec2 uv, int face, int j) {
+#if DSM_FILTER == 1
+  return textureLod(dsmKnots, vec3(uv, float(face * DSM_LAYERS + j)), 0.0);
+#else
+  return texelFetch(dsmKnots, ivec3(texel, face * DSM_LAYERS + j), 0);
+#endif
+}
+
 // Opacity at depth z of one texel's visibility function: piecewise linear through (entry, 0),
 // (knot k, min(threshold k, final)), (exit, final); a knot the ray never crossed sits at the exit.
 #if DSM_KNOTS == 3
 // The paper's layout in straight-line code (no local arrays: they cost llvmpipe a memory round trip).
-float texelOpacity(ivec3 texel, float z, float entry, float exit) {
-  vec4 v = texelFetch(dsmKnots, texel, 0);
+float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float exit) {
+  vec4 v = dsmLayer(texel, uv, face, 0);
   float final = v.w;
   if (final <= 0.0 || z <= entry) return 0.0;
   float d0 = max(v.x, entry), d1 = max(v.y, d0), d2 = max(v.z, d1), d3 = max(exit, d2);
@@ -75,10 +85,10 @@ float texelOpacity(ivec3 texel, float z, float entry, float exit) {
   return mix(aLo, aHi, clamp((z - lo) / max(hi - lo, 1e-20), 0.0, 1.0));
 }
 #else
-float texelOpacity(ivec3 texel, float z, float entry, float exit) {
+float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float exit) {
   float values[DSM_LAYERS * 4];
   for (int j = 0; j < DSM_LAYERS; ++j) {
-    vec4 v = texelFetch(dsmKnots, ivec3(texel.xy, texel.z * DSM_LAYERS + j), 0);
+    vec4 v = dsmLayer(texel, uv, face, j);
     values[4 * j] = v.x;
     values[4 * j + 1] = v.y;
     values[4 * j + 2] = v.z;
@@ -104,7 +114,8 @@ float texelOpacity(ivec3 texel, float z, float entry, float exit) {
 #endif
 
 // Transmittance of the volume data from the light to x, read from the DSM with bilinear weights
-// between the four nearest texels (each texel's visibility function evaluated at x's depth).
+// between the four nearest texels (each texel's visibility function evaluated at x's depth), or
+// from one hardware-filtered lookup (DSM_FILTER 1).
 float dsmTransmittance(vec3 x) {
   int face = dsmFace(x);
   vec4 p = dsm.faceViewProj[face] * vec4(x, 1.0);
@@ -119,13 +130,17 @@ float dsmTransmittance(vec3 x) {
   float z = lightDepth(x);
   float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
   float entry = base + span.x, exit = base + span.y;
+#if DSM_FILTER == 1
+  float a = texelOpacity(ivec2(0), (st + 0.5) / size, face, z, entry, exit);
+#else
   vec2 f = fract(st);
   ivec2 t0 = clamp(ivec2(floor(st)), ivec2(0), ivec2(int(size) - 1));
   ivec2 t1 = min(t0 + 1, ivec2(int(size) - 1));
-  float a00 = texelOpacity(ivec3(t0.x, t0.y, face), z, entry, exit);
-  float a10 = texelOpacity(ivec3(t1.x, t0.y, face), z, entry, exit);
-  float a01 = texelOpacity(ivec3(t0.x, t1.y, face), z, entry, exit);
-  float a11 = texelOpacity(ivec3(t1.x, t1.y, face), z, entry, exit);
+  float a00 = texelOpacity(t0, vec2(0.0), face, z, entry, exit);
+  float a10 = texelOpacity(ivec2(t1.x, t0.y), vec2(0.0), face, z, entry, exit);
+  float a01 = texelOpacity(ivec2(t0.x, t1.y), vec2(0.0), face, z, entry, exit);
+  float a11 = texelOpacity(t1, vec2(0.0), face, z, entry, exit);
   float a = mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
+#endif
   return clamp(1.0 - a, 0.0, 1.0);
 }

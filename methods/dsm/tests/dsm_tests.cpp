@@ -151,6 +151,7 @@ TEST_F(DsmTest, MatchesTheReferenceOnBuiltinVolumeScenes) {
     std::printf("%s: L_s relMSE 3 knots %.2e, 8 knots %.2e; 16 knots, bucket, steps of 8 voxels %.2e, of 0.25 %.2e\n", name, three,
                 eight, coarse, fine);
     EXPECT_LT(three, 1e-3) << name;
+    EXPECT_LT(lsRelmse(scene, "dsm:filter=texels", ref, W, H), 1e-3) << name;
     EXPECT_LT(eight, three) << name;
     EXPECT_LT(fine, coarse) << name;
   }
