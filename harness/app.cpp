@@ -1,5 +1,7 @@
 #include "app.hpp"
 
+#include <functional>
+
 #include <unistd.h>
 
 #include <chrono>
@@ -595,9 +597,9 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   return failures > 0 ? 3 : 0;
 }
 
-int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& registry) {
+int reportingErrors(const std::function<int()>& command) {
   try {
-    return runChecked(request, shootout, registry);
+    return command();
   } catch (const UsageError& e) {
     std::fprintf(stderr, "vshadow: error: %s\n", e.what());
     return 2;
@@ -608,6 +610,10 @@ int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& r
     std::fprintf(stderr, "vshadow: error: %s\n", e.what());
     return 1;
   }
+}
+
+int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& registry) {
+  return reportingErrors([&] { return runChecked(request, shootout, registry); });
 }
 
 }  // namespace vs

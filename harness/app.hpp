@@ -1,5 +1,6 @@
 // The vshadow commands: list, run, shootout.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,5 +31,8 @@ struct RunRequest {
 
 int listCommand(const MethodRegistry& registry);
 int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& registry);
+// Runs a command and maps its errors to the exit status: bad input (UsageError, SceneError) 2
+// with one line on stderr, any other failure 1.
+int reportingErrors(const std::function<int()>& command);
 
 }  // namespace vs

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "app.hpp"
 #include "results.hpp"
 #include "scenes/json_reader.hpp"
 #include "sweep.hpp"
@@ -309,18 +310,7 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
 }  // namespace
 
 int mergeCommand(const MergeRequest& request, const MethodRegistry& registry) {
-  try {
-    return mergeChecked(request, registry);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 1;
-  }
+  return reportingErrors([&] { return mergeChecked(request, registry); });
 }
 
 }  // namespace vs

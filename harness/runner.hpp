@@ -39,6 +39,11 @@ struct MethodRun {
   std::map<std::string, double> stats;
   Image inscatter, final;
   size_t nonFinitePixels = 0;
+  // Median ms of a pass, 0 when it did not run.
+  double passMs(const std::string& pass) const {
+    auto it = passStats.find(pass);
+    return it == passStats.end() ? 0.0 : it->second.medianMs;
+  }
 };
 
 // Scene-wide GPU state shared by every method run at one size.

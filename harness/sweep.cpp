@@ -10,6 +10,7 @@
 #include <regex>
 #include <set>
 
+#include "app.hpp"
 #include "context.hpp"
 #include "gl.hpp"
 #include "results.hpp"
@@ -363,7 +364,7 @@ ShardState readShardState(const std::string& dir) {
 }
 
 int sweepPlanCommand(const std::string& file, const SweepOptions& options, const MethodRegistry& registry) {
-  try {
+  return reportingErrors([&]() -> int {
     Sweep sweep = loadSweep(file, registry);
     std::vector<Shard> shards = planSweep(sweep, registry);
     if (!options.out.empty()) {
@@ -377,16 +378,7 @@ int sweepPlanCommand(const std::string& file, const SweepOptions& options, const
                   (s.ladder ? "ladder:" + s.method : s.method).c_str());
     }
     return 0;
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 int sweepRunCommand(const std::string& file, const SweepOptions& options, const MethodRegistry& registry) {
@@ -470,7 +462,7 @@ int sweepRunCommand(const std::string& file, const SweepOptions& options, const 
 }
 
 int sweepReferenceCommand(const std::string& file, const SweepOptions& options, const MethodRegistry& registry) {
-  try {
+  return reportingErrors([&]() -> int {
     Sweep sweep = loadSweep(file, registry);
     std::vector<Shard> shards = planSweep(sweep, registry);
     std::string scene;
@@ -511,16 +503,7 @@ int sweepReferenceCommand(const std::string& file, const SweepOptions& options, 
       std::fflush(stdout);
     }
     return 0;
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace vs

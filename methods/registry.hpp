@@ -12,6 +12,12 @@ inline std::unique_ptr<Method> createMethod(const std::string& name) { return cr
 inline ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits) {
   return resolveSpec(spec, limits, registeredMethods());
 }
+// Runs one method spec on a runner's scene (benchmarks and tools).
+inline MethodRun runSpec(Runner& runner, const gl::Limits& limits, const std::string& spec) {
+  ResolvedSpec r = resolveSpec(spec, limits);
+  auto method = createMethod(r.method);
+  return runner.run(*method, r.params);
+}
 inline Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
                                  int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "") {
   return obtainReference(scene, limits, options, shadowMapSize, cacheDir, registeredMethods(), overrideSpec);

@@ -26,14 +26,9 @@ struct Measured {
   bool ok = false;
 };
 
-double passMs(const MethodRun& run, const std::string& pass) {
-  auto it = run.passStats.find(pass);
-  return it == run.passStats.end() ? 0.0 : it->second.medianMs;
-}
 
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
-  ResolvedSpec resolved = resolveSpec(spec, limits);
   RunOptions options;
   options.width = w;
   options.height = h;
@@ -41,15 +36,14 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
   options.warmup = 1;
   options.timer = TimerStrategy::WallClock;
   Runner runner(scene, limits, options);
-  auto method = createMethod(resolved.method);
   Measured m;
-  m.run = runner.run(*method, resolved.params);
+  m.run = runSpec(runner, limits, spec);
   if (m.run.status != RunStatus::Success) {
     std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
     return m;
   }
   m.ok = true;
-  m.scatterMs = passMs(m.run, "DSM Generation") + passMs(m.run, "Volume March") + passMs(m.run, "Ray Marching");
+  m.scatterMs = m.run.passMs("DSM Generation") + m.run.passMs("Volume March") + m.run.passMs("Ray Marching");
   if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
   return m;
 }
@@ -153,8 +147,8 @@ int main(int argc, char** argv) {
               " voxel samples/s (generation) |\n|---|---|---|---|---|---|---|---|---|\n");
   for (auto& [name, m] : defaults)
     std::printf("| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.3g |\n", name.c_str(),
-                passMs(m.run, "DSM Generation"), passMs(m.run, "Volume March"), passMs(m.run, "Surface Shadows"),
-                passMs(m.run, "Shadow Map"), passMs(m.run, "G Buffer"), passMs(m.run, "Direct Lighting"),
+                m.run.passMs("DSM Generation"), m.run.passMs("Volume March"), m.run.passMs("Surface Shadows"),
+                m.run.passMs("Shadow Map"), m.run.passMs("G Buffer"), m.run.passMs("Direct Lighting"),
                 m.run.frame.medianMs, stat(m.run, "dsm_voxel_samples_per_s"));
 
   // ---- 2. Error against the knobs
@@ -205,8 +199,8 @@ int main(int argc, char** argv) {
                          side, frames, nullptr);
     if (!m.ok) continue;
     std::printf("| %s | %dx%dx%d | %.1f | %.1f | %.1f | %.1f | %.1f | %.3g |\n", generator, v.dims[0], v.dims[1],
-                v.dims[2], passMs(m.run, "DSM Generation"), passMs(m.run, "Volume March"),
-                passMs(m.run, "Surface Shadows"), m.run.frame.medianMs, 1000.0 / std::max(m.run.frame.medianMs, 1e-9),
+                v.dims[2], m.run.passMs("DSM Generation"), m.run.passMs("Volume March"),
+                m.run.passMs("Surface Shadows"), m.run.frame.medianMs, 1000.0 / std::max(m.run.frame.medianMs, 1e-9),
                 stat(m.run, "dsm_voxel_samples_per_s"));
     std::fflush(stdout);
   }

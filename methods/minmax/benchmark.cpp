@@ -23,14 +23,9 @@ struct Measured {
 
 const std::vector<std::string> kSharedPasses = {"Shadow Map", "G Buffer", "Direct Lighting", "Composite", "Frame"};
 
-double passMs(const MethodRun& run, const std::string& pass) {
-  auto it = run.passStats.find(pass);
-  return it == run.passStats.end() ? 0.0 : it->second.medianMs;
-}
 
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
-  ResolvedSpec resolved = resolveSpec(spec, limits);
   RunOptions options;
   options.width = w;
   options.height = h;
@@ -38,9 +33,8 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
   options.warmup = 1;
   options.timer = TimerStrategy::WallClock;
   Runner runner(scene, limits, options);
-  auto method = createMethod(resolved.method);
   Measured m;
-  m.run = runner.run(*method, resolved.params);
+  m.run = runSpec(runner, limits, spec);
   if (m.run.status != RunStatus::Success) {
     std::printf("  %s: %s\n", spec.c_str(), m.run.reason.c_str());
     return m;
@@ -117,7 +111,7 @@ int main(int argc, char** argv) {
   for (const auto& name : scenes) {
     const Measured& m = minmaxRuns[name];
     std::printf("%-8s", name.c_str());
-    for (const auto& c : columns) std::printf(" %10.1f", passMs(m.run, c.first));
+    for (const auto& c : columns) std::printf(" %10.1f", m.run.passMs(c.first));
     std::printf(" %10.1f %10.1f\n", m.scatterMs, m.run.frame.medianMs);
   }
   return 0;

@@ -13,16 +13,7 @@
 
 using namespace vs;
 
-static MethodRun runSpec(Runner& runner, const gl::Limits& limits, const std::string& spec) {
-  ResolvedSpec r = resolveSpec(spec, limits);
-  auto method = createMethod(r.method);
-  return runner.run(*method, r.params);
-}
 
-static double passMs(const MethodRun& run, const std::string& pass) {
-  auto it = run.passStats.find(pass);
-  return it == run.passStats.end() ? 0.0 : it->second.medianMs;
-}
 
 int main(int argc, char** argv) {
   int width = 256, height = 192;
@@ -62,7 +53,7 @@ int main(int argc, char** argv) {
                 steps, rmErr, rmMs, rmMs / std::max(v.frame.medianMs, 1e-9));
     std::fflush(stdout);
     MethodRun surf = runSpec(runner, limits, "vsv:sm=1024:surface=1");
-    surfaceRows += "| " + std::string(name) + " | " + std::to_string(passMs(surf, "Surface Shadows")) + " | " +
+    surfaceRows += "| " + std::string(name) + " | " + std::to_string(surf.passMs("Surface Shadows")) + " | " +
                    std::to_string(compareImages(surf.final, ref.final).relmse) + " | " +
                    std::to_string(compareImages(v.final, ref.final).relmse) + " |\n";
   }
@@ -77,8 +68,8 @@ int main(int argc, char** argv) {
   for (int sm = 512; sm <= 8192; sm *= 2) {
     if (sm > limits.maxCubeMapSize) break;
     MethodRun r = runSpec(runner, limits, "vsv:sm=" + std::to_string(sm));
-    std::printf("| %d^2 | %.1f | %.1f | %.1f | %.1f | %.1f |\n", sm, passMs(r, "Shadow Map"), passMs(r, "G Buffer"),
-                passMs(r, "Voxelize: From SM"), passMs(r, "Scan VSV"), passMs(r, "Compute L_s"));
+    std::printf("| %d^2 | %.1f | %.1f | %.1f | %.1f | %.1f |\n", sm, r.passMs("Shadow Map"), r.passMs("G Buffer"),
+                r.passMs("Voxelize: From SM"), r.passMs("Scan VSV"), r.passMs("Compute L_s"));
     std::fflush(stdout);
   }
   std::printf("\n## Table 3 (room): pass times (ms) against N_theta (sm=1024)\n");
@@ -86,8 +77,8 @@ int main(int argc, char** argv) {
   for (int theta = 128; theta <= 2048; theta *= 2) {
     MethodRun sm = runSpec(runner, limits, "vsv:sm=1024:theta=" + std::to_string(theta));
     MethodRun geo = runSpec(runner, limits, "vsv:sm=1024:vox=geom:theta=" + std::to_string(theta));
-    std::printf("| %d | %.1f | %.1f | %.1f | %.1f |\n", theta, passMs(sm, "Voxelize: From SM"),
-                passMs(geo, "Voxelize: Geometry"), passMs(sm, "Scan VSV"), passMs(sm, "Compute L_s"));
+    std::printf("| %d | %.1f | %.1f | %.1f | %.1f |\n", theta, sm.passMs("Voxelize: From SM"),
+                geo.passMs("Voxelize: Geometry"), sm.passMs("Scan VSV"), sm.passMs("Compute L_s"));
     std::fflush(stdout);
   }
   return 0;
