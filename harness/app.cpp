@@ -297,6 +297,30 @@ void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodR
   }
 }
 
+#ifndef VS_BUILD_TYPE
+#define VS_BUILD_TYPE ""
+#define VS_COMPILER ""
+#define VS_CXX_FLAGS ""
+#endif
+
+static json buildInfo() {
+#ifdef VS_SANITIZE
+  const bool sanitized = true;
+#else
+  const bool sanitized = false;
+#endif
+#ifdef NDEBUG
+  const bool assertions = false;
+#else
+  const bool assertions = true;
+#endif
+  return {{"type", VS_BUILD_TYPE},
+          {"compiler", VS_COMPILER},
+          {"flags", VS_CXX_FLAGS},
+          {"sanitizers", sanitized ? "address,undefined" : "none"},
+          {"assertions", assertions}};
+}
+
 json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& info, const TimerCalibration& calibration,
               const std::string& date) {
   const char* lpThreads = std::getenv("LP_NUM_THREADS");
@@ -304,6 +328,7 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
       {"command_line", req.commandLine},
       {"git_sha", buildGitSha()},
       {"date", date},
+      {"build", buildInfo()},
       {"gl", {{"vendor", info.glVendor}, {"renderer", info.glRenderer}, {"version", info.glVersion}}},
       {"egl", {{"vendor", info.eglVendor}, {"version", info.eglVersion}, {"platform", info.platform}}},
       {"cpu", {{"model", cpuModel()}, {"hardware_threads", std::thread::hardware_concurrency()}}},

@@ -126,8 +126,16 @@ TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   }
   EXPECT_GE(passes.rows().size(), runs.rows().size() * 5);
   auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));
-  for (const char* key : {"command_line", "git_sha", "date", "gl", "egl", "cpu", "timer", "width", "height"})
+  for (const char* key : {"command_line", "git_sha", "date", "build", "gl", "egl", "cpu", "timer", "width", "height"})
     EXPECT_TRUE(meta.contains(key)) << key;
+  // How the binary was built: a sanitizer build's timings must not pass for a release build's.
+  EXPECT_FALSE(meta["build"]["type"].get<std::string>().empty());
+  EXPECT_FALSE(meta["build"]["compiler"].get<std::string>().empty());
+#ifdef VS_SANITIZE
+  EXPECT_EQ(meta["build"]["sanitizers"], "address,undefined");
+#else
+  EXPECT_EQ(meta["build"]["sanitizers"], "none");
+#endif
   EXPECT_EQ(meta["status"], "finished");
   EXPECT_FALSE(meta["gl"]["renderer"].get<std::string>().empty());
   EXPECT_TRUE(fs::exists(out + "/images/spheres/reference.final.exr"));
