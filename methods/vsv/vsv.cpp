@@ -192,14 +192,6 @@ std::vector<std::string> VsvMethod::qualityLadder() const {
           "alpha=512:theta=1024:phi=512", "alpha=512:theta=2048:phi=512"};
 }
 
-std::string VsvMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
-  // The triangle voxelizer disagrees with raymarch under directional lights (L_s relMSE ~1e-2,
-  // not yet understood): only the shadow-map voxelizer is offered there.
-  if (scene.light.type == LightType::Directional && params.has("vox") && params.getString("vox") == "geom")
-    return "vox=geom does not support directional lights (use vox=sm)";
-  return Method::unsupportedReason(scene, params);
-}
-
 void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   size_.nAlpha = params.getInt("alpha");
   size_.nTheta = params.getInt("theta");

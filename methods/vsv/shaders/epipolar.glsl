@@ -36,12 +36,13 @@ float alphaMax() {
   return clamp(uintBitsToFloat(vsvRanges.alphaMaxBits), 1e-4, PI);
 }
 bool parallelLight() { return vsv.fixedRanges.w > 0.5; }
-// Directional light: always the fixed range, the scene's largest distance from the axis (beyond
-// it nothing is shadowed); rays to the far plane usually reach past it anyway. A dynamic range
-// there gave wrong L_s on llvmpipe although every pass read the same value (not understood).
+// Directional light: φ is a distance, so the dynamic range is bounded by the scene's largest
+// distance from the axis (the fixed range: beyond it nothing is shadowed), not by π.
 float phiMax() {
-  if (vsv.fixedRanges.z < 0.5 || parallelLight()) return vsv.fixedRanges.y;
-  return clamp(uintBitsToFloat(vsvRanges.phiMaxBits), 1e-4, PI);
+  if (vsv.fixedRanges.z < 0.5) return vsv.fixedRanges.y;
+  float dynamicMax = uintBitsToFloat(vsvRanges.phiMaxBits);
+  if (parallelLight()) return min(dynamicMax, vsv.fixedRanges.y);
+  return clamp(dynamicMax, 1e-4, PI);
 }
 
 // atan2 that is defined at the origin (§4.2: a vertex on the epipole).

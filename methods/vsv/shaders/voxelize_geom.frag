@@ -39,7 +39,7 @@ void main() {
   clipPolygon(poly, count, cos(alpha0) * mid - sin(alpha0) * axis);  // α >= α0
   clipPolygon(poly, count, sin(alpha1) * axis - cos(alpha1) * mid);  // α <= α1
   if (count == 0) discard;
-  float phiLo = PI, phiHi = 0.0;
+  float phiLo = 3.0e38, phiHi = 0.0;  // φ is a distance, not an angle, under a directional light
   for (int i = 0; i < count; ++i) {
     float phi = phiOfPlane(planeCoords(poly[i]));
     phiLo = min(phiLo, phi);

@@ -299,18 +299,22 @@ TEST_F(VsvTest, DirectionalLightsMatchRaymarchIncludingParallelToTheView) {
     std::string light = std::string(R"({"type": "directional", "direction": )") + direction + R"(, "color": [1, 1, 1], "intensity": 2})";
     Scene scene = sceneFromJson(sceneJson(geometry, camera, light));
     MethodRun ref = mustRender(scene, "raymarch:steps=1024:jitter=0:sm=1024", W, H);
-    EXPECT_EQ(renderScene(scene, "vsv:vox=geom", 8, 8).status, RunStatus::Unsupported);
-    for (const char* vox : {"sm"}) {  // vox=geom: Unsupported under directional lights
+    // Both voxelizers, with the dynamic φ range (a distance from the axis here) and the fixed one.
+    for (const char* vox : {"sm", "geom", "geom:ranges=0", "sm:ranges=0"}) {
       MethodRun run = mustRender(scene, std::string("vsv:sm=1024:surface=1:vox=") + vox, W, H);
       Comparison c = compareLs(run.inscatter, ref.inscatter);
       double relmse = compareImages(run.inscatter, ref.inscatter).relmse;
       double finalRelmse = compareImages(run.final, ref.final).relmse;
       std::printf("directional %s, vox=%s: L_s relative RMSE %.4f, relMSE %.2e, pixels off by >10%% %.4f; final relMSE %.2e\n",
                   what, vox, c.relRmse, relmse, c.badFraction, finalRelmse);
-      EXPECT_LT(c.relRmse, 0.02) << what << " vox=" << vox;
-      EXPECT_LT(relmse, 2e-4) << what << " vox=" << vox;
-      // Surface shadows near the anti-epipole (light along the view) are the weakest: 1.8e-2.
-      EXPECT_LT(finalRelmse, 0.03) << what << " vox=" << vox;
+      // The triangle voxelizer's conservative coverage sets more bits than the shadow map's one
+      // per light ray: its bound is the one of the point-light tests (relative RMSE 0.05).
+      bool geom = std::string(vox).rfind("geom", 0) == 0;
+      EXPECT_LT(c.relRmse, geom ? 0.05 : 0.02) << what << " vox=" << vox;
+      EXPECT_LT(relmse, geom ? 5e-4 : 2e-4) << what << " vox=" << vox;
+      // Surface shadows near the anti-epipole (light along the view) are the weakest: 1.8e-2
+      // (3.7e-2 from the triangle voxelizer).
+      EXPECT_LT(finalRelmse, geom ? 0.05 : 0.03) << what << " vox=" << vox;
     }
   }
 }
