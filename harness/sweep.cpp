@@ -384,7 +384,8 @@ int sweepPlanCommand(const std::string& file, const SweepOptions& options, const
 int sweepRunCommand(const std::string& file, const SweepOptions& options, const MethodRegistry& registry) {
   Sweep sweep;
   std::vector<Shard> selected;
-  try {
+  // Validate and write the normalized sweep first: bad input fails before any shard runs.
+  int prepared = reportingErrors([&]() -> int {
     sweep = loadSweep(file, registry);
     selected = selectShards(planSweep(sweep, registry), options.only);
     for (const Shard& s : selected) {
@@ -403,16 +404,9 @@ int sweepRunCommand(const std::string& file, const SweepOptions& options, const 
     std::string existing, error;
     std::string sweepPath = options.out + "/" + kSweepFile;
     if (!readFile(sweepPath, existing, error) || existing != normalized) writeFileAtomic(sweepPath, normalized);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vshadow: error: %s\n", e.what());
-    return 1;
-  }
+    return 0;
+  });
+  if (prepared != 0) return prepared;
 
   int worst = 0;
   for (const Shard& s : selected) {

@@ -1,4 +1,4 @@
-// The hard cases of the stability suite (DESIGN.md §6), as scenes built in code. Shared by the
+// The hard cases of the stability suite (README "Stability"), as scenes built in code. Shared by the
 // stability tests, the stress tool and the stability report.
 #pragma once
 #include <string>

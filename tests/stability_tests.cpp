@@ -1,4 +1,4 @@
-// Every registered method on every hard case (DESIGN.md §6): a method is covered the day it is
+// Every registered method on every hard case (README "Stability"): a method is covered the day it is
 // registered. Checks: finite, non-negative pixels; L_s never above the same method's unshadowed
 // L_s; relMSE against the reference within the method's declared bound (regular cases);
 // identical images from two runs; no GL debug error (the GlTest fixture).

@@ -26,18 +26,10 @@ struct Measured {
   bool ok = false;
 };
 
-
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
-  RunOptions options;
-  options.width = w;
-  options.height = h;
-  options.frames = frames;
-  options.warmup = 1;
-  options.timer = TimerStrategy::WallClock;
-  Runner runner(scene, limits, options);
   Measured m;
-  m.run = runSpec(runner, limits, spec);
+  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
   if (m.run.status != RunStatus::Success) {
     std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
     return m;

@@ -23,18 +23,10 @@ struct Measured {
 
 const std::vector<std::string> kSharedPasses = {"Shadow Map", "G Buffer", "Direct Lighting", "Composite", "Frame"};
 
-
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
-  RunOptions options;
-  options.width = w;
-  options.height = h;
-  options.frames = frames;
-  options.warmup = 1;
-  options.timer = TimerStrategy::WallClock;
-  Runner runner(scene, limits, options);
   Measured m;
-  m.run = runSpec(runner, limits, spec);
+  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
   if (m.run.status != RunStatus::Success) {
     std::printf("  %s: %s\n", spec.c_str(), m.run.reason.c_str());
     return m;
