@@ -241,11 +241,18 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   glTextureStorage3D(id, 1, GL_RGBA32F, resolution_, resolution_, views_.faces * layers_);
   GLenum filter = hardwareFilter ? GL_LINEAR : GL_NEAREST;
   gl::setFilter(id, filter, filter);
-  glCreateFramebuffers(1, &id);
-  fbo_ = gl::Framebuffer(id);
+  // One framebuffer per face, its layers attached once (MRT: knots 4j..4j+3 in target j).
   std::vector<GLenum> targets;
   for (int j = 0; j < layers_; ++j) targets.push_back(GLenum(GL_COLOR_ATTACHMENT0 + j));
-  glNamedFramebufferDrawBuffers(id, layers_, targets.data());
+  faceFbos_.clear();
+  for (int face = 0; face < views_.faces; ++face) {
+    glCreateFramebuffers(1, &id);
+    faceFbos_.emplace_back(id);
+    for (int j = 0; j < layers_; ++j)
+      glNamedFramebufferTextureLayer(id, targets[size_t(j)], map_.id(), 0, face * layers_ + j);
+    glNamedFramebufferDrawBuffers(id, layers_, targets.data());
+    gl::checkFramebuffer(id, "deep shadow map");
+  }
 
   std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
@@ -268,13 +275,10 @@ void DsmMethod::render(const Frame& frame, PassTimer& timer) {
   {
     auto scope = timer.scope(kGeneration);
     glBindTextureUnit(kDsmUnit, 0);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, resolution_, resolution_);
     glUseProgram(generateProgram_.id());
     for (int face = 0; face < views_.faces; ++face) {
-      for (int j = 0; j < layers_; ++j)
-        glNamedFramebufferTextureLayer(fbo_.id(), GLenum(GL_COLOR_ATTACHMENT0 + j), map_.id(), 0, face * layers_ + j);
-      gl::checkFramebuffer(fbo_.id(), "deep shadow map");
+      glBindFramebuffer(GL_FRAMEBUFFER, faceFbos_[size_t(face)].id());
       glUniform1i(0, face);
       gl::drawFullscreenTriangle();
     }

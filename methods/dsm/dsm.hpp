@@ -49,7 +49,7 @@ class DsmMethod : public Method {
   bool jitter_ = true, surfaceShadows_ = true, needsSharedShadowMap_ = true;
   dsm::LightViews views_;
   gl::Texture map_;
-  gl::Framebuffer fbo_;
+  std::vector<gl::Framebuffer> faceFbos_;  // per light view, every layer attached
   gl::Buffer ubo_;
   gl::Program generateProgram_, marchProgram_, surfaceProgram_;
 };
