@@ -4,6 +4,7 @@
 #include "dsm/dsm.hpp"
 #include "minmax/minmax.hpp"
 #include "raymarch/raymarch.hpp"
+#include "slicemap/slicemap.hpp"
 #include "vsv/vsv.hpp"
 
 namespace vs {
@@ -19,6 +20,7 @@ const MethodRegistry& registeredMethods() {
       entry<MinmaxMethod>(),
       entry<VsvMethod>(),
       entry<DsmMethod>(),
+      entry<SlicemapMethod>(),
   };
   return methods;
 }

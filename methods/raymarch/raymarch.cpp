@@ -91,7 +91,7 @@ void RaymarchMethod::setup(const SetupContext& context, const ParamValues& param
   lightSamples_ = context.effects.areaLight ? params.getInt("light_samples") : 0;
   lightShadowSize_ = params.getInt("light_sm");
   program_ = gl::buildFullscreen("methods/raymarch/shaders/raymarch.frag",
-                                 sceneDefines(context.effects) + "#define EQUIANGULAR " +
+                                 sceneDefines(context.effects) + "#define MARCH_EQUIANGULAR " +
                                      (equiangular_ ? "1" : "0") + "\n#define AREA_SAMPLES " +
                                      std::to_string(lightSamples_) + "\n");
   if (lightSamples_ > 0) {

@@ -1,0 +1,54 @@
+// Sample positions and weights of a camera-ray march over [0, dist] with N stratified samples
+// u_i = (i + xi_i) / N; xi_i = fract(h + i * phi) with h a hash of (pixel, seed) when jittered,
+// otherwise 0.5.
+//  - uniform:     s_i = u_i dist, weight dist / N.
+//  - equiangular: (point and spot lights) s_i spaced evenly in the angle seen from the light,
+//    s = delta + D tan(theta), weight (theta_b - theta_a) r^2 / (D N): it cancels the 1/r^2 of
+//    L_in, so rays passing close to the light converge as fast as the others.
+// Needs common.glsl. The includer defines MARCH_EQUIANGULAR (0 or 1) at build time: a uniform
+// would cost a branch per step, which llvmpipe does not hoist.
+#ifndef MARCH_EQUIANGULAR
+#error "define MARCH_EQUIANGULAR before including march.glsl"
+#endif
+#define kMarchAngular (MARCH_EQUIANGULAR != 0 && lightType() != LIGHT_DIRECTIONAL)
+
+struct March {
+  float dist, delta, D, thetaA, thetaB, pixelOffset;
+  int n;
+  bool jitter;
+};
+
+March beginMarch(ivec2 pixel, vec3 eye, vec3 dir, float dist, int steps, bool jitter) {
+  March m;
+  m.dist = dist;
+  m.n = max(steps, 1);
+  m.jitter = jitter;
+  m.pixelOffset = jitter ? random01(uvec4(uint(pixel.x), uint(pixel.y), uint(u.viewport.w), 0u)) : 0.5;
+  m.delta = 0.0;
+  m.D = 1.0;
+  m.thetaA = 0.0;
+  m.thetaB = 0.0;
+  if (kMarchAngular) {
+    vec3 toLight = u.lightPos.xyz - eye;
+    m.delta = dot(toLight, dir);                                     // ray parameter closest to the light
+    m.D = max(length(toLight - m.delta * dir), 1e-6 * max(dist, 1.0));  // light's distance from the ray
+    m.thetaA = atan(-m.delta, m.D);
+    m.thetaB = atan(dist - m.delta, m.D);
+  }
+  return m;
+}
+
+// Distance s along the ray of sample i and its quadrature weight.
+void marchSample(March m, int i, out float s, out float weight) {
+  const float goldenRatio = 0.61803398875;
+  float ui = (float(i) + (m.jitter ? fract(m.pixelOffset + float(i) * goldenRatio) : 0.5)) / float(m.n);
+  if (kMarchAngular) {
+    float theta = mix(m.thetaA, m.thetaB, ui);
+    s = clamp(m.delta + m.D * tan(theta), 0.0, m.dist);
+    float r2 = m.D * m.D + (s - m.delta) * (s - m.delta);
+    weight = (m.thetaB - m.thetaA) * r2 / (m.D * float(m.n));
+  } else {
+    s = ui * m.dist;
+    weight = m.dist / float(m.n);
+  }
+}

@@ -1,0 +1,41 @@
+#version 450 core
+// "Slicemap" (Eisemann & Decoret §2): each fragment of a colour class sets the bit of its slice in
+// its light texel's column; the framebuffer ORs the one-hot words in (glLogicOp(GL_OR)), 128 slices
+// per RGBA32UI target. With NEAR_FAR_PASS: "Near/Far Maps" for local slicing, each column's
+// nearest and farthest fragment (MIN blending of d and -d).
+#include "common.glsl"
+#include "slicemap.glsl"
+in vec3 vPosition;
+in vec3 vColor;
+in vec2 vUv;
+in vec3 vAlpha;
+layout(location = 4) uniform int voxelClass;  // the class this draw voxelizes
+layout(location = 5) uniform int face;  // used by local slicing's lookup of the near/far maps
+layout(location = 6) uniform int opaqueDraw;  // 1 while the class's opaque meshes draw
+#ifdef NEAR_FAR_PASS
+layout(location = 0) out vec2 outNearFar;
+#else
+layout(location = 0) out uvec4 outBits[SLICEMAP_TARGETS];
+#endif
+
+void main() {
+  if (opaqueDraw == 0) {
+    // Semi-transparent meshes all draw; each fragment keeps to the class of its transmittance.
+    float o = surfaceOpacity(vAlpha, vUv);
+    vec3 crossing = vec3(1.0) - o * (vec3(1.0) - vColor);
+    vec3 t = slicemap.classTransmittance[voxelClass].rgb;
+    if (o <= 0.0 || any(greaterThanEqual(abs(crossing - t), vec3(1e-3)))) discard;
+  }
+  float depth = slicemapDepth(vPosition);
+#ifdef NEAR_FAR_PASS
+  outNearFar = vec2(depth, -depth);
+#else
+  int column = face * SLICEMAP_CLASSES + voxelClass;
+  float coord = sliceCoordinate(ivec2(gl_FragCoord.xy), column, depth);
+  int slice = clamp(int(clamp(coord, 0.0, slicemap.params.z - 1.0)), 0, int(slicemap.params.z) - 1);
+  int target = slice >> 7, word = (slice >> 5) & 3;
+  uvec4 oneHot = uvec4(0u);
+  oneHot[word] = 1u << uint(slice & 31);
+  for (int k = 0; k < SLICEMAP_TARGETS; ++k) outBits[k] = k == target ? oneHot : uvec4(0u);
+#endif
+}

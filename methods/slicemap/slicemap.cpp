@@ -1,0 +1,409 @@
+#include "slicemap.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vs {
+
+static constexpr const char* kNearFar = "Near/Far Maps";
+static constexpr const char* kSlicemap = "Slicemap";
+static constexpr const char* kPrefix = "Prefix Counts";
+static constexpr const char* kScattering = "Scattering";
+static constexpr const char* kShading = "Shading";
+static constexpr GLuint kSlicemapUniforms = 4;
+static constexpr GLuint kBitsUnit = bind::kFirstMethodUnit;
+static constexpr GLuint kNearFarUnit = bind::kFirstMethodUnit + 1;
+static constexpr GLuint kPrefixUnit = bind::kFirstMethodUnit + 2;
+static constexpr double kMaxBytes = 1024.0 * 1024.0 * 1024.0;
+
+// std140 mirror of SlicemapBlock in shaders/slicemap.glsl.
+struct SlicemapUniforms {
+  glm::mat4 faceViewProj[6];
+  glm::vec4 params;  // resolution, faces, slices, classes
+  glm::vec4 range;   // uniform slicing: near, far
+  glm::vec4 classTransmittance[slicemap::kMaxClasses];
+};
+
+namespace slicemap {
+
+std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem) {
+  std::vector<ColorClass> classes;
+  auto classOf = [&](glm::vec3 t) -> ColorClass& {
+    for (auto& c : classes)
+      if (glm::all(glm::lessThan(glm::abs(c.transmittance - t), glm::vec3(1e-3f)))) return c;
+    classes.push_back({t, false});
+    return classes.back();
+  };
+  problem.clear();
+  for (const Mesh& mesh : scene.meshes) {
+    if (mesh.indices.empty() || mesh.opacity <= 0.0f) continue;
+    if (mesh.isOpaque()) {
+      if (opaqueInSlices) classOf(glm::vec3(0.0f)).opaqueMeshes = true;
+      continue;
+    }
+    if (mesh.alphaTexture >= 0 && mesh.alphaCutoff < 0.0f) {
+      problem = "mesh '" + mesh.name + "' has per-texel opacity (alpha texture, BLEND): a slicemap counts "
+                "crossings of a few constant transmittances";
+      return {};
+    }
+    // A MASK texel that stays is opaque: its crossing passes the transmittance colour.
+    classOf(mesh.alphaTexture >= 0 ? mesh.transmittanceColor : mesh.crossingTransmittance());
+  }
+  if (classes.size() > size_t(kMaxClasses)) {
+    problem = "the occluders have " + std::to_string(classes.size()) + " different transmittances; at most " +
+              std::to_string(kMaxClasses) + " colour classes";
+    return {};
+  }
+  return classes;
+}
+
+glm::vec2 sliceRange(const Scene& scene, const std::vector<ColorClass>& classes) {
+  auto member = [&](const Mesh& mesh) {
+    if (mesh.indices.empty() || mesh.opacity <= 0.0f) return false;
+    if (mesh.isOpaque()) return std::any_of(classes.begin(), classes.end(), [](const ColorClass& c) { return c.opaqueMeshes; });
+    return true;
+  };
+  const Light& light = scene.light;
+  bool directional = light.type == LightType::Directional;
+  glm::vec3 dir = glm::length(light.direction) > 0.0f ? glm::normalize(light.direction) : glm::vec3(0, -1, 0);
+  float lo = 3e38f, hi = -3e38f;
+  for (const Mesh& mesh : scene.meshes) {
+    if (!member(mesh)) continue;
+    for (const glm::vec3& p : mesh.positions) {
+      float d = directional ? glm::dot(p, dir) : glm::length(p - light.position);
+      if (!std::isfinite(d)) continue;
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+  }
+  if (lo > hi) return {0.0f, 1.0f};
+  // A little margin so that the nearest and farthest surfaces fall inside the first and last slice.
+  float pad = std::max((hi - lo) * 1e-4f, 1e-6f * std::max(std::fabs(hi), 1.0f));
+  return {lo - pad, hi + pad};
+}
+
+int bitsInFront(const std::vector<uint32_t>& words, int slice) {
+  int n = 0;
+  for (size_t w = 0; w < words.size(); ++w) {
+    int bits = std::clamp(slice - int(w) * 32, 0, 32);
+    uint32_t mask = bits >= 32 ? 0xFFFFFFFFu : (1u << bits) - 1u;
+    n += __builtin_popcount(words[w] & mask);
+  }
+  return n;
+}
+
+}  // namespace slicemap
+
+std::string SlicemapMethod::description() const {
+  return "slicemap voxelization and transmittance shadow maps (Eisemann & Decoret 2006): light-space columns of "
+         "one-bit slices set with a logical OR, visibility by counting the bits in front";
+}
+
+Capabilities SlicemapMethod::capabilities() const {
+  Capabilities c;
+  c.pointLight = c.spotLight = c.directionalLight = true;
+  c.texturedLight = true;
+  c.homogeneousMedium = true;
+  c.henyeyGreenstein = true;
+  c.semiTransparentOccluders = true;
+  c.coloredShadows = true;
+  c.surfaceShadows = true;
+  return c;
+}
+
+std::vector<ParamSpec> SlicemapMethod::params() const {
+  return {ParamSpec::integer("res", 512, 16, 8192, "slicemap resolution (texels per side, per cube face)").pow2(),
+          ParamSpec::integer("targets", 1, 1, slicemap::kMaxTargets, "RGBA32UI render targets per slicemap: 128 slices each"),
+          ParamSpec::choice("slicing", "uniform", {"uniform", "local"},
+                            "uniform: slices span the occluders' near..far; local: each column's own near..far (a Near/Far Maps pass first)"),
+          ParamSpec::choice("opaque", "auto", {"auto", "slices", "shadowmap"},
+                            "opaque occluders: voxelized as a class of their own, or in the shared shadow map tested first "
+                            "(the paper's transmittance shadow maps); auto: shadowmap when the scene has semi-transparent occluders"),
+          ParamSpec::choice("lookup", "scan", {"scan", "prefix"},
+                            "bits in front: scan every word (the paper), or per-word prefix counts built once per frame (two fetches)"),
+          ParamSpec::integer("steps", 128, 1, 4096, "Scattering: samples along the camera ray"),
+          ParamSpec::flag("equiangular", false, "Scattering: equiangular samples (point and spot lights)"),
+          ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
+          ParamSpec::flag("surface", true, "Shading: surfaces shadowed by the slicemap (the paper's use)")};
+}
+
+std::vector<std::string> SlicemapMethod::qualityLadder() const {
+  return {"res=128:steps=32", "res=256:steps=64", "res=512:steps=128", "res=512:targets=2:slicing=local:steps=256",
+          "res=512:targets=4:slicing=local:steps=512"};
+}
+
+std::vector<std::string> SlicemapMethod::approximations() const {
+  return {"occluder depth quantised to slices; one bit per slice and column (layers in one slice count once)"};
+}
+
+static bool opaqueInSlices(const Scene& scene, const ParamValues& params) {
+  const std::string& mode = params.getString("opaque");
+  if (mode != "auto") return mode == "slices";
+  return !deriveEffects(scene).semiTransparent;
+}
+
+std::string SlicemapMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
+  std::string base = Method::unsupportedReason(scene, params);
+  if (!base.empty()) return base;
+  std::string problem;
+  auto classes = slicemap::colorClasses(scene, opaqueInSlices(scene, params), problem);
+  if (!problem.empty()) return problem;
+  int res = params.getInt("res");
+  int faces = scene.light.type == LightType::Point ? 6 : 1;
+  double bytes = double(res) * res * 16.0 * faces * double(classes.size()) * params.getInt("targets");
+  if (params.getString("lookup") == "prefix") bytes *= 1.5;
+  if (bytes > kMaxBytes)
+    return "res=" + std::to_string(res) + " needs " + std::to_string(int(bytes / 1048576.0)) +
+           " MiB of slicemaps (at most 1024 MiB)";
+  return "";
+}
+
+void SlicemapMethod::setup(const SetupContext& context, const ParamValues& params) {
+  const Scene& scene = context.scene;
+  geometry_ = &context.geometry;
+  resolution_ = params.getInt("res");
+  targets_ = params.getInt("targets");
+  local_ = params.getString("slicing") == "local";
+  prefix_ = params.getString("lookup") == "prefix";
+  steps_ = params.getInt("steps");
+  jitter_ = params.getBool("jitter");
+  surface_ = params.getBool("surface");
+  opaqueInSlices_ = opaqueInSlices(scene, params);
+  // The opaque class replaces the shared shadow map only where the Shading pass re-shades surfaces.
+  needsSharedShadowMap_ = !(opaqueInSlices_ && surface_);
+  faces_ = scene.light.type == LightType::Point ? 6 : 1;
+  std::string problem;
+  classes_ = slicemap::colorClasses(scene, opaqueInSlices_, problem);
+  if (!problem.empty()) throw std::runtime_error(problem);
+  int classes = int(classes_.size());
+  if (resolution_ > context.limits.maxTextureSize)
+    throw std::runtime_error("res=" + std::to_string(resolution_) + " exceeds GL_MAX_TEXTURE_SIZE " +
+                             std::to_string(context.limits.maxTextureSize));
+  if (targets_ > context.limits.maxDrawBuffers || targets_ > context.limits.maxColorAttachments)
+    throw std::runtime_error("targets=" + std::to_string(targets_) + " exceeds GL_MAX_DRAW_BUFFERS " +
+                             std::to_string(context.limits.maxDrawBuffers));
+  GLint maxLayers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  int layers = faces_ * classes * targets_;
+  if (layers > maxLayers)
+    throw std::runtime_error(std::to_string(layers) + " slicemap layers exceed GL_MAX_ARRAY_TEXTURE_LAYERS " +
+                             std::to_string(maxLayers));
+
+  triangles_ = 0.0;
+  for (const Mesh& mesh : scene.meshes) {
+    if (mesh.opacity <= 0.0f) continue;
+    bool member = mesh.isOpaque() ? opaqueInSlices_ : true;
+    if (member) triangles_ += double(mesh.triangleCount()) * faces_;
+  }
+
+  SlicemapUniforms uniforms{};
+  glm::vec2 range = slicemap::sliceRange(scene, classes_);
+  uniforms.params = glm::vec4(float(resolution_), float(faces_), float(targets_ * slicemap::kSlicesPerTarget), float(classes));
+  uniforms.range = glm::vec4(range, 0.0f, 0.0f);
+  for (int c = 0; c < classes; ++c) uniforms.classTransmittance[c] = glm::vec4(classes_[size_t(c)].transmittance, 0.0f);
+  ubo_ = gl::createBuffer(sizeof uniforms, &uniforms);
+
+  sliceFbos_.clear();
+  nearFarFbos_.clear();
+  slices_.reset();
+  nearFar_.reset();
+  prefixCounts_.reset();
+  if (classes > 0) {
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+    slices_ = gl::Texture(id);
+    glTextureStorage3D(id, 1, GL_RGBA32UI, resolution_, resolution_, layers);
+    gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
+    if (prefix_) {
+      glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+      prefixCounts_ = gl::Texture(id);
+      glTextureStorage3D(id, 1, GL_RGBA16UI, resolution_, resolution_, layers);
+      gl::setFilter(id, GL_NEAREST, GL_NEAREST);
+    }
+    if (local_) {
+      glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+      nearFar_ = gl::Texture(id);
+      glTextureStorage3D(id, 1, GL_RG32F, resolution_, resolution_, faces_ * classes);
+      gl::setFilter(id, GL_NEAREST, GL_NEAREST);
+    }
+    std::vector<GLenum> drawBuffers;
+    for (int k = 0; k < targets_; ++k) drawBuffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + k));
+    for (int f = 0; f < faces_; ++f)
+      for (int c = 0; c < classes; ++c) {
+        glCreateFramebuffers(1, &id);
+        sliceFbos_.emplace_back(id);
+        for (int k = 0; k < targets_; ++k)
+          glNamedFramebufferTextureLayer(id, drawBuffers[size_t(k)], slices_.id(), 0, layer(f, c, k));
+        glNamedFramebufferDrawBuffers(id, targets_, drawBuffers.data());
+        gl::checkFramebuffer(id, "slicemap");
+        if (local_) {
+          glCreateFramebuffers(1, &id);
+          nearFarFbos_.emplace_back(id);
+          glNamedFramebufferTextureLayer(id, GL_COLOR_ATTACHMENT0, nearFar_.id(), 0, f * classes + c);
+          gl::checkFramebuffer(id, "slicemap near/far map");
+        }
+      }
+  }
+
+  std::string defines = sceneDefines(context.effects) + "#define SLICEMAP_CLASSES " + std::to_string(classes) +
+                        "\n#define SLICEMAP_TARGETS " + std::to_string(targets_) + "\n#define SLICEMAP_LOCAL " +
+                        (local_ ? "1" : "0") + "\n#define SLICEMAP_PREFIX " + (prefix_ ? "1" : "0") +
+                        "\n#define SLICEMAP_OPAQUE_IN_SLICES " + (opaqueInSlices_ ? "1" : "0") + "\n";
+  const gl::ShaderStage vertex{GL_VERTEX_SHADER, "harness/shaders/transmittance.vert"};
+  if (classes > 0) {
+    voxelizeProgram_ = gl::buildProgram({vertex, {GL_FRAGMENT_SHADER, "methods/slicemap/shaders/voxelize.frag"}}, defines);
+    if (local_)
+      nearFarProgram_ = gl::buildProgram({vertex, {GL_FRAGMENT_SHADER, "methods/slicemap/shaders/voxelize.frag"}},
+                                         defines + "#define NEAR_FAR_PASS 1\n");
+    if (prefix_) prefixProgram_ = gl::buildCompute("methods/slicemap/shaders/prefix.comp", defines);
+  }
+  marchProgram_ = gl::buildFullscreen("methods/slicemap/shaders/march.frag",
+                                      defines + "#define MARCH_EQUIANGULAR " +
+                                          (params.getBool("equiangular") ? "1" : "0") + "\n");
+  if (surface_) surfaceProgram_ = gl::buildFullscreen("methods/slicemap/shaders/surface.frag", defines);
+}
+
+void SlicemapMethod::voxelize(const Frame& frame, PassTimer& timer) {
+  int classes = int(classes_.size());
+  const glm::mat4* views = faces_ == 6 ? frame.shadowMap.faceViewProj : &frame.shadowMap.viewProj;
+  glViewport(0, 0, resolution_, resolution_);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);  // thin and open geometry: both sides
+  auto drawClass = [&](int c) {
+    if (!frame.shadowCasters) return;
+    glUniform1i(4, c);
+    if (classes_[size_t(c)].opaqueMeshes) {
+      glUniform1i(6, 1);
+      geometry_->drawOpaque();
+    }
+    glUniform1i(6, 0);
+    geometry_->drawTranslucent();
+  };
+  if (local_) {
+    auto scope = timer.scope(kNearFar);
+    // Each column's nearest and farthest crossing in one pass: MIN blending of (d, -d).
+    glUseProgram(nearFarProgram_.id());
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_MIN);
+    const float empty[4] = {3e38f, 3e38f, 0.0f, 0.0f};
+    for (int f = 0; f < faces_; ++f) {
+      glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(views[f]));
+      for (int c = 0; c < classes; ++c) {
+        GLuint fbo = nearFarFbos_[size_t(f * classes + c)].id();
+        glClearNamedFramebufferfv(fbo, GL_COLOR, 0, empty);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        drawClass(c);
+      }
+    }
+    glBlendEquation(GL_FUNC_ADD);
+    glDisable(GL_BLEND);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+  {
+    auto scope = timer.scope(kSlicemap);
+    glUseProgram(voxelizeProgram_.id());
+    glBindTextureUnit(kNearFarUnit, local_ ? nearFar_.id() : 0);
+    glEnable(GL_COLOR_LOGIC_OP);
+    glLogicOp(GL_OR);
+    const GLuint zero[4] = {0, 0, 0, 0};
+    for (int f = 0; f < faces_; ++f) {
+      glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(views[f]));
+      if (local_) glUniform1i(5, f);  // only local slicing reads the face's near/far map
+      for (int c = 0; c < classes; ++c) {
+        GLuint fbo = sliceFbos_[size_t(f * classes + c)].id();
+        for (int k = 0; k < targets_; ++k) glClearNamedFramebufferuiv(fbo, GL_COLOR, k, zero);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        drawClass(c);
+      }
+    }
+    glDisable(GL_COLOR_LOGIC_OP);
+    glLogicOp(GL_COPY);
+  }
+  if (prefix_) {
+    auto scope = timer.scope(kPrefix);
+    glUseProgram(prefixProgram_.id());
+    glBindTextureUnit(kBitsUnit, slices_.id());
+    glBindImageTexture(0, prefixCounts_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16UI);
+    glDispatchCompute(GLuint((resolution_ + 7) / 8), GLuint((resolution_ + 7) / 8), GLuint(faces_ * classes));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+}
+
+void SlicemapMethod::render(const Frame& frame, PassTimer& timer) {
+  frame.bindShared();
+  // The light views are the shared shadow map's (cube faces for point lights).
+  SlicemapUniforms head{};
+  const glm::mat4* views = faces_ == 6 ? frame.shadowMap.faceViewProj : &frame.shadowMap.viewProj;
+  for (int f = 0; f < faces_; ++f) head.faceViewProj[f] = views[f];
+  glNamedBufferSubData(ubo_.id(), 0, sizeof head.faceViewProj, head.faceViewProj);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kSlicemapUniforms, ubo_.id());
+  if (!classes_.empty()) voxelize(frame, timer);
+  glBindTextureUnit(kBitsUnit, slices_.id());
+  glBindTextureUnit(kNearFarUnit, nearFar_.id());
+  glBindTextureUnit(kPrefixUnit, prefixCounts_.id());
+  glDisable(GL_DEPTH_TEST);
+  {
+    auto scope = timer.scope(kScattering);
+    glBindFramebuffer(GL_FRAMEBUFFER, frame.inscatterFbo);
+    glViewport(0, 0, frame.width, frame.height);
+    const float clear[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, clear);
+    glUseProgram(marchProgram_.id());
+    glUniform1i(0, steps_);
+    glUniform1i(1, jitter_ ? 1 : 0);
+    // llvmpipe ends the loops of an invocation after 65,535 iterations in all (gl::kShaderLoopBudget):
+    // long marches run as several additive passes.
+    int perSample = 1 + int(classes_.size()) * (2 + targets_);
+    int chunk = std::max(gl::kShaderLoopBudget / perSample, 1);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    for (int first = 0; first < steps_; first += chunk) {
+      glUniform1i(2, first);
+      glUniform1i(3, std::min(first + chunk, steps_));
+      gl::drawFullscreenTriangle();
+    }
+    glDisable(GL_BLEND);
+  }
+  if (surface_) {
+    auto scope = timer.scope(kShading);
+    glBindFramebuffer(GL_FRAMEBUFFER, frame.directFbo);
+    glUseProgram(surfaceProgram_.id());
+    gl::drawFullscreenTriangle();
+  }
+  for (GLuint unit : {kBitsUnit, kNearFarUnit, kPrefixUnit}) glBindTextureUnit(unit, 0);
+}
+
+std::vector<uint32_t> SlicemapMethod::readSlicemap(int face, int cls) const {
+  if (!slices_ || face < 0 || face >= faces_ || cls < 0 || cls >= int(classes_.size()))
+    throw std::runtime_error("no slicemap for face " + std::to_string(face) + ", class " + std::to_string(cls));
+  size_t texels = size_t(resolution_) * size_t(resolution_);
+  std::vector<uint32_t> layers(texels * 4 * size_t(targets_));
+  glGetTextureSubImage(slices_.id(), 0, 0, 0, layer(face, cls, 0), resolution_, resolution_, targets_, GL_RGBA_INTEGER,
+                       GL_UNSIGNED_INT, GLsizei(layers.size() * 4), layers.data());
+  // Per column: the words of target 0, then target 1, ...
+  std::vector<uint32_t> columns(layers.size());
+  for (size_t t = 0; t < texels; ++t)
+    for (int k = 0; k < targets_; ++k)
+      for (int w = 0; w < 4; ++w)
+        columns[(t * size_t(targets_) + size_t(k)) * 4 + size_t(w)] = layers[(size_t(k) * texels + t) * 4 + size_t(w)];
+  return columns;
+}
+
+std::map<std::string, double> SlicemapMethod::stats(const std::map<std::string, TimingStats>& passes) const {
+  double slices = double(targets_) * slicemap::kSlicesPerTarget;
+  double voxels = double(resolution_) * resolution_ * faces_ * double(classes_.size()) * slices;
+  std::map<std::string, double> out{{"slicemap_slices", slices},
+                                    {"slicemap_classes", double(classes_.size())},
+                                    {"slicemap_triangles", triangles_},
+                                    {"slicemap_voxels", voxels}};
+  auto it = passes.find(kSlicemap);
+  if (it != passes.end() && it->second.medianMs > 0.0) {
+    out["slicemap_triangles_per_s"] = triangles_ / (it->second.medianMs * 1e-3);
+    out["slicemap_voxels_per_s"] = voxels / (it->second.medianMs * 1e-3);
+  }
+  return out;
+}
+
+}  // namespace vs

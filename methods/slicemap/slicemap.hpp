@@ -1,0 +1,75 @@
+// Slicemap voxelization and transmittance shadow maps (Eisemann & Decoret, I3D 2006): every light
+// texel is a column of slices, one bit each, set in one rasterization pass with a logical OR; the
+// camera ray's samples count the set bits in front of them (opaque: any bit; semi-transparent:
+// (1 - sigma)^n per colour class).
+#pragma once
+#include <glm/glm.hpp>
+
+#include "harness/method.hpp"
+
+namespace vs {
+
+namespace slicemap {
+
+constexpr int kSlicesPerTarget = 128;  // one RGBA32UI texel: 4 x 32 bits
+constexpr int kMaxTargets = 8;
+constexpr int kMaxClasses = 4;
+
+// Geometry with one transmittance per crossing, voxelized into a slicemap of its own (the paper's
+// colour classes). Transmittance 0: opaque.
+struct ColorClass {
+  glm::vec3 transmittance{0.0f};
+  bool opaqueMeshes = false;  // the scene's opaque meshes belong to this class
+};
+
+// The classes a scene's occluders fall into. opaqueInSlices: the opaque meshes join the class of
+// transmittance 0 instead of the shared shadow map. When the scene cannot be voxelized (per-texel
+// opacity, too many transmittances) `problem` says why and the list is empty.
+std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem);
+
+// Range of light distances (point/spot) or of depths along the light direction (directional)
+// that the given meshes' vertices span; the uniform slicing's near and far.
+glm::vec2 sliceRange(const Scene& scene, const std::vector<ColorClass>& classes);
+
+// Bits set in front of slice `slice` (cells 0 .. slice-1) of a column of `words` 32-bit words:
+// the CPU mirror of the shaders' count, for tests.
+int bitsInFront(const std::vector<uint32_t>& words, int slice);
+
+}  // namespace slicemap
+
+class SlicemapMethod : public Method {
+ public:
+  std::string name() const override { return "slicemap"; }
+  std::string description() const override;
+  Capabilities capabilities() const override;
+  std::vector<ParamSpec> params() const override;
+  std::vector<std::string> qualityLadder() const override;
+  std::vector<std::string> approximations() const override;
+  std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
+  bool needsSharedShadowMap() const override { return needsSharedShadowMap_; }
+  void setup(const SetupContext& context, const ParamValues& params) override;
+  void render(const Frame& frame, PassTimer& timer) override;
+  std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // The words of every column of one (face, class) slicemap as the last frame left them: res x res
+  // columns of 4 x targets words, row by row (tests and figures).
+  std::vector<uint32_t> readSlicemap(int face, int cls) const;
+  int resolution() const { return resolution_; }
+  int targets() const { return targets_; }
+
+ private:
+  void voxelize(const Frame& frame, PassTimer& timer);
+  int layer(int face, int cls, int target) const { return (face * int(classes_.size()) + cls) * targets_ + target; }
+
+  const SceneGpu* geometry_ = nullptr;
+  std::vector<slicemap::ColorClass> classes_;
+  int resolution_ = 512, targets_ = 1, faces_ = 1, steps_ = 128;
+  bool local_ = false, prefix_ = false, jitter_ = true, surface_ = true, opaqueInSlices_ = false;
+  bool needsSharedShadowMap_ = true;
+  double triangles_ = 0.0;  // voxelized per frame (all faces and classes)
+  gl::Texture slices_, nearFar_, prefixCounts_;
+  std::vector<gl::Framebuffer> sliceFbos_, nearFarFbos_;  // per (face, class)
+  gl::Buffer ubo_;
+  gl::Program nearFarProgram_, voxelizeProgram_, prefixProgram_, marchProgram_, surfaceProgram_;
+};
+
+}  // namespace vs
