@@ -22,8 +22,9 @@ static constexpr double kMaxBytes = 1024.0 * 1024.0 * 1024.0;
 struct SlicemapUniforms {
   glm::mat4 faceViewProj[6];
   glm::vec4 params;  // resolution, faces, slices, classes
-  glm::vec4 range;   // uniform slicing: near, far
-  glm::vec4 classTransmittance[slicemap::kMaxClasses];
+  glm::vec4 classRange[slicemap::kMaxClasses];  // uniform slicing: near, far, slices / (far - near)
+  glm::vec4 classTransmittance[slicemap::kMaxClasses];     // rgb
+  glm::vec4 classLog2Transmittance[slicemap::kMaxClasses];  // rgb: log2 of one crossing (-100 for 0)
 };
 
 namespace slicemap {
@@ -33,14 +34,19 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
   auto classOf = [&](glm::vec3 t) -> ColorClass& {
     for (auto& c : classes)
       if (glm::all(glm::lessThan(glm::abs(c.transmittance - t), glm::vec3(1e-3f)))) return c;
-    classes.push_back({t, false});
+    classes.push_back({t, false, {}});
     return classes.back();
   };
   problem.clear();
-  for (const Mesh& mesh : scene.meshes) {
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const Mesh& mesh = scene.meshes[i];
     if (mesh.indices.empty() || mesh.opacity <= 0.0f) continue;
     if (mesh.isOpaque()) {
-      if (opaqueInSlices) classOf(glm::vec3(0.0f)).opaqueMeshes = true;
+      if (opaqueInSlices) {
+        ColorClass& c = classOf(glm::vec3(0.0f));
+        c.opaqueMeshes = true;
+        c.meshes.push_back(int(i));
+      }
       continue;
     }
     if (mesh.alphaTexture >= 0 && mesh.alphaCutoff < 0.0f) {
@@ -49,7 +55,7 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
       return {};
     }
     // A MASK texel that stays is opaque: its crossing passes the transmittance colour.
-    classOf(mesh.alphaTexture >= 0 ? mesh.transmittanceColor : mesh.crossingTransmittance());
+    classOf(mesh.alphaTexture >= 0 ? mesh.transmittanceColor : mesh.crossingTransmittance()).meshes.push_back(int(i));
   }
   if (classes.size() > size_t(kMaxClasses)) {
     problem = "the occluders have " + std::to_string(classes.size()) + " different transmittances; at most " +
@@ -59,28 +65,23 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
   return classes;
 }
 
-glm::vec2 sliceRange(const Scene& scene, const std::vector<ColorClass>& classes) {
-  auto member = [&](const Mesh& mesh) {
-    if (mesh.indices.empty() || mesh.opacity <= 0.0f) return false;
-    if (mesh.isOpaque()) return std::any_of(classes.begin(), classes.end(), [](const ColorClass& c) { return c.opaqueMeshes; });
-    return true;
-  };
+glm::vec2 sliceRange(const Scene& scene, const ColorClass& cls) {
   const Light& light = scene.light;
   bool directional = light.type == LightType::Directional;
   glm::vec3 dir = glm::length(light.direction) > 0.0f ? glm::normalize(light.direction) : glm::vec3(0, -1, 0);
   float lo = 3e38f, hi = -3e38f;
-  for (const Mesh& mesh : scene.meshes) {
-    if (!member(mesh)) continue;
-    for (const glm::vec3& p : mesh.positions) {
+  for (int index : cls.meshes)
+    for (const glm::vec3& p : scene.meshes[size_t(index)].positions) {
       float d = directional ? glm::dot(p, dir) : glm::length(p - light.position);
       if (!std::isfinite(d)) continue;
       lo = std::min(lo, d);
       hi = std::max(hi, d);
     }
-  }
   if (lo > hi) return {0.0f, 1.0f};
   // A little margin so that the nearest and farthest surfaces fall inside the first and last slice.
-  float pad = std::max((hi - lo) * 1e-4f, 1e-6f * std::max(std::fabs(hi), 1.0f));
+  // A class lying at one depth (a plane facing the light) still gets slices no thinner than float
+  // noise in positions.
+  float pad = std::max((hi - lo) * 1e-4f, 1e-3f * std::max({std::fabs(hi), std::fabs(lo), 1.0f}));
   return {lo - pad, hi + pad};
 }
 
@@ -118,13 +119,16 @@ std::vector<ParamSpec> SlicemapMethod::params() const {
           ParamSpec::integer("targets", 1, 1, slicemap::kMaxTargets, "RGBA32UI render targets per slicemap: 128 slices each"),
           ParamSpec::choice("slicing", "uniform", {"uniform", "local"},
                             "uniform: slices span the occluders' near..far; local: each column's own near..far (a Near/Far Maps pass first)"),
-          ParamSpec::choice("opaque", "auto", {"auto", "slices", "shadowmap"},
-                            "opaque occluders: voxelized as a class of their own, or in the shared shadow map tested first "
-                            "(the paper's transmittance shadow maps); auto: shadowmap when the scene has semi-transparent occluders"),
+          ParamSpec::choice("opaque", "slices", {"slices", "shadowmap"},
+                            "opaque occluders: voxelized as a class of their own (transmittance 0), or in the shared shadow "
+                            "map tested first (the paper's transmittance shadow maps)"),
           ParamSpec::choice("lookup", "scan", {"scan", "prefix"},
                             "bits in front: scan every word (the paper), or per-word prefix counts built once per frame (two fetches)"),
+          ParamSpec::flag("pack", true,
+                          "colour classes share the targets' words (4 x targets / classes words each), so that one fetch "
+                          "serves every class"),
           ParamSpec::integer("steps", 128, 1, 4096, "Scattering: samples along the camera ray"),
-          ParamSpec::flag("equiangular", false, "Scattering: equiangular samples (point and spot lights)"),
+          ParamSpec::flag("equiangular", true, "Scattering: equiangular samples (point and spot lights)"),
           ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
           ParamSpec::flag("surface", true, "Shading: surfaces shadowed by the slicemap (the paper's use)")};
 }
@@ -138,21 +142,23 @@ std::vector<std::string> SlicemapMethod::approximations() const {
   return {"occluder depth quantised to slices; one bit per slice and column (layers in one slice count once)"};
 }
 
-static bool opaqueInSlices(const Scene& scene, const ParamValues& params) {
-  const std::string& mode = params.getString("opaque");
-  if (mode != "auto") return mode == "slices";
-  return !deriveEffects(scene).semiTransparent;
-}
+static bool opaqueInSlices(const ParamValues& params) { return params.getString("opaque") == "slices"; }
 
 std::string SlicemapMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
   std::string base = Method::unsupportedReason(scene, params);
   if (!base.empty()) return base;
   std::string problem;
-  auto classes = slicemap::colorClasses(scene, opaqueInSlices(scene, params), problem);
+  auto classes = slicemap::colorClasses(scene, opaqueInSlices(params), problem);
   if (!problem.empty()) return problem;
+  bool pack = params.getBool("pack");
+  if (pack && params.getString("lookup") == "prefix" && classes.size() > 1)
+    return "lookup=prefix needs pack=0 with more than one colour class (prefix counts run over one class's words)";
+  if (pack && classes.size() > size_t(4 * params.getInt("targets")))
+    return "pack=1 needs at least one word per class: " + std::to_string(classes.size()) + " classes in " +
+           std::to_string(4 * params.getInt("targets")) + " words";
   int res = params.getInt("res");
   int faces = scene.light.type == LightType::Point ? 6 : 1;
-  double bytes = double(res) * res * 16.0 * faces * double(classes.size()) * params.getInt("targets");
+  double bytes = double(res) * res * 16.0 * faces * double(pack ? 1 : classes.size()) * params.getInt("targets");
   if (params.getString("lookup") == "prefix") bytes *= 1.5;
   if (bytes > kMaxBytes)
     return "res=" + std::to_string(res) + " needs " + std::to_string(int(bytes / 1048576.0)) +
@@ -167,10 +173,11 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   targets_ = params.getInt("targets");
   local_ = params.getString("slicing") == "local";
   prefix_ = params.getString("lookup") == "prefix";
+  packed_ = false;  // set once the classes are known: packing one class changes nothing
   steps_ = params.getInt("steps");
   jitter_ = params.getBool("jitter");
   surface_ = params.getBool("surface");
-  opaqueInSlices_ = opaqueInSlices(scene, params);
+  opaqueInSlices_ = opaqueInSlices(params);
   // The opaque class replaces the shared shadow map only where the Shading pass re-shades surfaces.
   needsSharedShadowMap_ = !(opaqueInSlices_ && surface_);
   faces_ = scene.light.type == LightType::Point ? 6 : 1;
@@ -178,6 +185,7 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   classes_ = slicemap::colorClasses(scene, opaqueInSlices_, problem);
   if (!problem.empty()) throw std::runtime_error(problem);
   int classes = int(classes_.size());
+  packed_ = params.getBool("pack") && classes > 1;
   if (resolution_ > context.limits.maxTextureSize)
     throw std::runtime_error("res=" + std::to_string(resolution_) + " exceeds GL_MAX_TEXTURE_SIZE " +
                              std::to_string(context.limits.maxTextureSize));
@@ -186,7 +194,7 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
                              std::to_string(context.limits.maxDrawBuffers));
   GLint maxLayers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-  int layers = faces_ * classes * targets_;
+  int layers = faces_ * slots() * targets_;
   if (layers > maxLayers)
     throw std::runtime_error(std::to_string(layers) + " slicemap layers exceed GL_MAX_ARRAY_TEXTURE_LAYERS " +
                              std::to_string(maxLayers));
@@ -199,10 +207,15 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   }
 
   SlicemapUniforms uniforms{};
-  glm::vec2 range = slicemap::sliceRange(scene, classes_);
-  uniforms.params = glm::vec4(float(resolution_), float(faces_), float(targets_ * slicemap::kSlicesPerTarget), float(classes));
-  uniforms.range = glm::vec4(range, 0.0f, 0.0f);
-  for (int c = 0; c < classes; ++c) uniforms.classTransmittance[c] = glm::vec4(classes_[size_t(c)].transmittance, 0.0f);
+  float slices = float(32 * wordsPerClass());  // per class
+  uniforms.params = glm::vec4(float(resolution_), float(faces_), slices, float(classes));
+  for (int c = 0; c < classes; ++c) {
+    glm::vec2 range = slicemap::sliceRange(scene, classes_[size_t(c)]);
+    uniforms.classRange[c] = glm::vec4(range, slices / std::max(range.y - range.x, 1e-30f), 0.0f);
+    glm::vec3 t = classes_[size_t(c)].transmittance;
+    uniforms.classTransmittance[c] = glm::vec4(t, 0.0f);
+    uniforms.classLog2Transmittance[c] = glm::vec4(glm::log2(glm::max(t, glm::vec3(1e-30f))), 0.0f);
+  }
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms);
 
   sliceFbos_.clear();
@@ -211,37 +224,36 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   nearFar_.reset();
   prefixCounts_.reset();
   if (classes > 0) {
+    // Point lights: cube-map arrays, so that a lookup is one fetch by direction (the sampler picks
+    // the face); spot and directional lights: 2D arrays.
+    GLenum target = faces_ == 6 ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY;
+    auto create = [&](GLenum format, int count) {
+      GLuint id = 0;
+      glCreateTextures(target, 1, &id);
+      glTextureStorage3D(id, 1, format, resolution_, resolution_, count);
+      gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
+      return gl::Texture(id);
+    };
+    slices_ = create(GL_RGBA32UI, layers);
+    if (prefix_) prefixCounts_ = create(GL_RGBA16UI, layers);
+    if (local_) nearFar_ = create(GL_RG32F, faces_ * classes);
     GLuint id = 0;
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
-    slices_ = gl::Texture(id);
-    glTextureStorage3D(id, 1, GL_RGBA32UI, resolution_, resolution_, layers);
-    gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
-    if (prefix_) {
-      glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
-      prefixCounts_ = gl::Texture(id);
-      glTextureStorage3D(id, 1, GL_RGBA16UI, resolution_, resolution_, layers);
-      gl::setFilter(id, GL_NEAREST, GL_NEAREST);
-    }
-    if (local_) {
-      glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
-      nearFar_ = gl::Texture(id);
-      glTextureStorage3D(id, 1, GL_RG32F, resolution_, resolution_, faces_ * classes);
-      gl::setFilter(id, GL_NEAREST, GL_NEAREST);
-    }
     std::vector<GLenum> drawBuffers;
     for (int k = 0; k < targets_; ++k) drawBuffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + k));
     for (int f = 0; f < faces_; ++f)
       for (int c = 0; c < classes; ++c) {
-        glCreateFramebuffers(1, &id);
-        sliceFbos_.emplace_back(id);
-        for (int k = 0; k < targets_; ++k)
-          glNamedFramebufferTextureLayer(id, drawBuffers[size_t(k)], slices_.id(), 0, layer(f, c, k));
-        glNamedFramebufferDrawBuffers(id, targets_, drawBuffers.data());
-        gl::checkFramebuffer(id, "slicemap");
+        if (c < slots()) {
+          glCreateFramebuffers(1, &id);
+          sliceFbos_.emplace_back(id);
+          for (int k = 0; k < targets_; ++k)
+            glNamedFramebufferTextureLayer(id, drawBuffers[size_t(k)], slices_.id(), 0, layer(f, c, k));
+          glNamedFramebufferDrawBuffers(id, targets_, drawBuffers.data());
+          gl::checkFramebuffer(id, "slicemap");
+        }
         if (local_) {
           glCreateFramebuffers(1, &id);
           nearFarFbos_.emplace_back(id);
-          glNamedFramebufferTextureLayer(id, GL_COLOR_ATTACHMENT0, nearFar_.id(), 0, f * classes + c);
+          glNamedFramebufferTextureLayer(id, GL_COLOR_ATTACHMENT0, nearFar_.id(), 0, c * faces_ + f);
           gl::checkFramebuffer(id, "slicemap near/far map");
         }
       }
@@ -250,7 +262,9 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   std::string defines = sceneDefines(context.effects) + "#define SLICEMAP_CLASSES " + std::to_string(classes) +
                         "\n#define SLICEMAP_TARGETS " + std::to_string(targets_) + "\n#define SLICEMAP_LOCAL " +
                         (local_ ? "1" : "0") + "\n#define SLICEMAP_PREFIX " + (prefix_ ? "1" : "0") +
-                        "\n#define SLICEMAP_OPAQUE_IN_SLICES " + (opaqueInSlices_ ? "1" : "0") + "\n";
+                        "\n#define SLICEMAP_OPAQUE_IN_SLICES " + (opaqueInSlices_ ? "1" : "0") +
+                        "\n#define SLICEMAP_CUBE " + (faces_ == 6 ? "1" : "0") + "\n#define SLICEMAP_PACKED " +
+                        (packed_ ? "1" : "0") + "\n#define SLICEMAP_CLASS_WORDS " + std::to_string(wordsPerClass()) + "\n";
   const gl::ShaderStage vertex{GL_VERTEX_SHADER, "harness/shaders/transmittance.vert"};
   if (classes > 0) {
     voxelizeProgram_ = gl::buildProgram({vertex, {GL_FRAGMENT_SHADER, "methods/slicemap/shaders/voxelize.frag"}}, defines);
@@ -310,10 +324,11 @@ void SlicemapMethod::voxelize(const Frame& frame, PassTimer& timer) {
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int f = 0; f < faces_; ++f) {
       glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(views[f]));
-      if (local_) glUniform1i(5, f);  // only local slicing reads the face's near/far map
       for (int c = 0; c < classes; ++c) {
-        GLuint fbo = sliceFbos_[size_t(f * classes + c)].id();
-        for (int k = 0; k < targets_; ++k) glClearNamedFramebufferuiv(fbo, GL_COLOR, k, zero);
+        GLuint fbo = sliceFbos_[size_t(f * slots() + (packed_ ? 0 : c))].id();
+        if (c < slots()) {  // packed classes OR into the words the first one cleared
+          for (int k = 0; k < targets_; ++k) glClearNamedFramebufferuiv(fbo, GL_COLOR, k, zero);
+        }
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         drawClass(c);
       }
@@ -324,9 +339,10 @@ void SlicemapMethod::voxelize(const Frame& frame, PassTimer& timer) {
   if (prefix_) {
     auto scope = timer.scope(kPrefix);
     glUseProgram(prefixProgram_.id());
-    glBindTextureUnit(kBitsUnit, slices_.id());
-    glBindImageTexture(0, prefixCounts_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16UI);
-    glDispatchCompute(GLuint((resolution_ + 7) / 8), GLuint((resolution_ + 7) / 8), GLuint(faces_ * classes));
+    glUniform1i(0, faces_);
+    glBindImageTexture(0, slices_.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32UI);
+    glBindImageTexture(1, prefixCounts_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16UI);
+    glDispatchCompute(GLuint((resolution_ + 7) / 8), GLuint((resolution_ + 7) / 8), GLuint(faces_ * slots()));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
   }
 }
@@ -379,20 +395,19 @@ std::vector<uint32_t> SlicemapMethod::readSlicemap(int face, int cls) const {
   if (!slices_ || face < 0 || face >= faces_ || cls < 0 || cls >= int(classes_.size()))
     throw std::runtime_error("no slicemap for face " + std::to_string(face) + ", class " + std::to_string(cls));
   size_t texels = size_t(resolution_) * size_t(resolution_);
-  std::vector<uint32_t> layers(texels * 4 * size_t(targets_));
-  glGetTextureSubImage(slices_.id(), 0, 0, 0, layer(face, cls, 0), resolution_, resolution_, targets_, GL_RGBA_INTEGER,
-                       GL_UNSIGNED_INT, GLsizei(layers.size() * 4), layers.data());
+  std::vector<uint32_t> plane(texels * 4), columns(texels * 4 * size_t(targets_));
   // Per column: the words of target 0, then target 1, ...
-  std::vector<uint32_t> columns(layers.size());
-  for (size_t t = 0; t < texels; ++t)
-    for (int k = 0; k < targets_; ++k)
-      for (int w = 0; w < 4; ++w)
-        columns[(t * size_t(targets_) + size_t(k)) * 4 + size_t(w)] = layers[(size_t(k) * texels + t) * 4 + size_t(w)];
+  for (int k = 0; k < targets_; ++k) {
+    glGetTextureSubImage(slices_.id(), 0, 0, 0, layer(face, cls, k), resolution_, resolution_, 1, GL_RGBA_INTEGER,
+                         GL_UNSIGNED_INT, GLsizei(plane.size() * 4), plane.data());
+    for (size_t t = 0; t < texels; ++t)
+      for (int w = 0; w < 4; ++w) columns[(t * size_t(targets_) + size_t(k)) * 4 + size_t(w)] = plane[t * 4 + size_t(w)];
+  }
   return columns;
 }
 
 std::map<std::string, double> SlicemapMethod::stats(const std::map<std::string, TimingStats>& passes) const {
-  double slices = double(targets_) * slicemap::kSlicesPerTarget;
+  double slices = 32.0 * wordsPerClass();  // per class
   double voxels = double(resolution_) * resolution_ * faces_ * double(classes_.size()) * slices;
   std::map<std::string, double> out{{"slicemap_slices", slices},
                                     {"slicemap_classes", double(classes_.size())},

@@ -20,6 +20,7 @@ constexpr int kMaxClasses = 4;
 struct ColorClass {
   glm::vec3 transmittance{0.0f};
   bool opaqueMeshes = false;  // the scene's opaque meshes belong to this class
+  std::vector<int> meshes;    // indices into Scene::meshes
 };
 
 // The classes a scene's occluders fall into. opaqueInSlices: the opaque meshes join the class of
@@ -28,8 +29,8 @@ struct ColorClass {
 std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem);
 
 // Range of light distances (point/spot) or of depths along the light direction (directional)
-// that the given meshes' vertices span; the uniform slicing's near and far.
-glm::vec2 sliceRange(const Scene& scene, const std::vector<ColorClass>& classes);
+// that a class's vertices span: its uniform slicing's near and far.
+glm::vec2 sliceRange(const Scene& scene, const ColorClass& cls);
 
 // Bits set in front of slice `slice` (cells 0 .. slice-1) of a column of `words` 32-bit words:
 // the CPU mirror of the shaders' count, for tests.
@@ -58,12 +59,16 @@ class SlicemapMethod : public Method {
 
  private:
   void voxelize(const Frame& frame, PassTimer& timer);
-  int layer(int face, int cls, int target) const { return (face * int(classes_.size()) + cls) * targets_ + target; }
+  // Layer (2D array) or layer-face (cube-map array, point lights) of one target of a class's
+  // slicemap; packed classes share one set of targets.
+  int layer(int face, int cls, int target) const { return ((packed_ ? 0 : cls) * targets_ + target) * faces_ + face; }
+  int slots() const { return packed_ ? 1 : int(classes_.size()); }
+  int wordsPerClass() const { return packed_ ? 4 * targets_ / std::max(int(classes_.size()), 1) : 4 * targets_; }
 
   const SceneGpu* geometry_ = nullptr;
   std::vector<slicemap::ColorClass> classes_;
   int resolution_ = 512, targets_ = 1, faces_ = 1, steps_ = 128;
-  bool local_ = false, prefix_ = false, jitter_ = true, surface_ = true, opaqueInSlices_ = false;
+  bool local_ = false, prefix_ = false, packed_ = false, jitter_ = true, surface_ = true, opaqueInSlices_ = false;
   bool needsSharedShadowMap_ = true;
   double triangles_ = 0.0;  // voxelized per frame (all faces and classes)
   gl::Texture slices_, nearFar_, prefixCounts_;

@@ -23,7 +23,7 @@ void main() {
     float s, weight;
     marchSample(m, i, s, weight);
     vec3 x = eye + dir * s;
-    vec3 visibility = slicemapVisibility(x, 0.0);
+    vec3 visibility = slicemapVisibility(x);
     sum += weight * sigmaS() * exp(-sigmaT() * s) * visibility * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x);
   }
   // Added to the target (cleared to alpha 1: no volume data on the camera ray).

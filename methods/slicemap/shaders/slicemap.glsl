@@ -1,52 +1,88 @@
 // The slicemap seen from the lookups: which column and slice a point falls in, and the light's
 // transmittance there from the bits set in front of it. Mirrors SlicemapUniforms (slicemap.cpp).
 // Defines from the method: SLICEMAP_CLASSES, SLICEMAP_TARGETS, SLICEMAP_LOCAL, SLICEMAP_PREFIX,
-// SLICEMAP_OPAQUE_IN_SLICES.
+// SLICEMAP_OPAQUE_IN_SLICES, SLICEMAP_CUBE, SLICEMAP_PACKED, SLICEMAP_CLASS_WORDS.
 layout(std140, binding = 4) uniform SlicemapBlock {
   mat4 faceViewProj[6];
   vec4 params;  // resolution, faces, slices, classes
-  vec4 range;   // uniform slicing: near, far
-  vec4 classTransmittance[4];
+  vec4 classRange[4];  // per class, uniform slicing: near, far, slices / (far - near)
+  vec4 classTransmittance[4];     // rgb
+  vec4 classLog2Transmittance[4];  // rgb: log2 of one crossing (-100 for 0)
 } slicemap;
-layout(binding = 10) uniform usampler2DArray slicemapBits;  // layer (face * classes + class) * targets + target
-layout(binding = 11) uniform sampler2DArray slicemapNearFar;  // local slicing: near, -far per column (face * classes + class)
-layout(binding = 12) uniform usampler2DArray slicemapPrefix;  // bits in the column's words before each word
+// Point lights (SLICEMAP_CUBE): cube-map arrays looked up by direction from the light, layer
+// class * targets + target (near/far: class); otherwise 2D arrays of one view.
+#if SLICEMAP_CUBE
+layout(binding = 10) uniform usamplerCubeArray slicemapBits;
+layout(binding = 11) uniform samplerCubeArray slicemapNearFar;  // local slicing: near, -far per column
+layout(binding = 12) uniform usamplerCubeArray slicemapPrefix;  // bits in the column's words before each word
+#else
+layout(binding = 10) uniform usampler2DArray slicemapBits;
+layout(binding = 11) uniform sampler2DArray slicemapNearFar;
+layout(binding = 12) uniform usampler2DArray slicemapPrefix;
+#endif
 
 // Distance from a point or spot light; depth along the light's direction for a directional light.
 float slicemapDepth(vec3 x) {
   return lightType() == LIGHT_DIRECTIONAL ? dot(x, u.lightDir.xyz) : length(x - u.lightPos.xyz);
 }
 
-// Slice coordinate in [0, slices] of depth d in a column's range (negative before it, above
-// `slices` behind it).
-float sliceCoordinate(ivec2 texel, int column, float d) {
-#if SLICEMAP_LOCAL
-  vec2 nf = texelFetch(slicemapNearFar, ivec3(texel, column), 0).xy;
-  vec2 range = vec2(nf.x, -nf.y);
-#else
-  vec2 range = slicemap.range.xy;
+// The column a point falls in: its direction from the light (cube) or its texel (one view).
+struct Column {
+  vec3 dir;
+  ivec2 texel;
+  bool inside;
+};
+
+Column slicemapColumn(vec3 x) {
+  Column c;
+  c.dir = x - u.lightPos.xyz;
+  c.texel = ivec2(0);
+  c.inside = true;
+#if !SLICEMAP_CUBE
+  vec4 p = slicemap.faceViewProj[0] * vec4(x, 1.0);
+  vec2 st = p.xy / max(p.w, 1e-20) * 0.5 + 0.5;
+  c.inside = p.w > 1e-20 && all(greaterThanEqual(st, vec2(0.0))) && all(lessThan(st, vec2(1.0)));
+  int res = int(slicemap.params.x);
+  c.texel = clamp(ivec2(st * float(res)), ivec2(0), ivec2(res - 1));
 #endif
-  return (d - range.x) / max(range.y - range.x, 1e-30) * slicemap.params.z;
+  return c;
+}
+
+#if SLICEMAP_CUBE
+#define SLICEMAP_FETCH(tex, column, layer) texture(tex, vec4((column).dir, float(layer)))
+#else
+#define SLICEMAP_FETCH(tex, column, layer) texelFetch(tex, ivec3((column).texel, (layer)), 0)
+#endif
+
+// Slice coordinate in [0, slices] of depth d in the column of class `cls` (negative before its
+// range, above `slices` behind it).
+float sliceCoordinate(Column column, int cls, float d) {
+#if SLICEMAP_LOCAL
+  vec2 nf = SLICEMAP_FETCH(slicemapNearFar, column, cls).xy;
+  return (d - nf.x) / max(-nf.y - nf.x, 1e-30) * slicemap.params.z;
+#else
+  return (d - slicemap.classRange[cls].x) * slicemap.classRange[cls].z;
+#endif
 }
 
 #ifndef NEAR_FAR_PASS
 // Bits set in cells 0 .. slice-1 of a column whose words start at `layer`.
-int bitsInFront(ivec2 texel, int layer, int slice) {
+int bitsInFront(Column column, int layer, int slice) {
 #if SLICEMAP_PREFIX
   // Two fetches whatever the number of targets: the word holding the last cell in front, and the
   // bits in the words before it.
   int word = min(slice >> 5, 4 * SLICEMAP_TARGETS - 1);
   int bits = clamp(slice - 32 * word, 0, 32);
-  ivec3 at = ivec3(texel, layer + (word >> 2));
-  uint w = texelFetch(slicemapBits, at, 0)[word & 3];
-  uint before = texelFetch(slicemapPrefix, at, 0)[word & 3];
+  int at = layer + (word >> 2);
+  uint w = SLICEMAP_FETCH(slicemapBits, column, at)[word & 3];
+  uint before = SLICEMAP_FETCH(slicemapPrefix, column, at)[word & 3];
   uint mask = bits >= 32 ? 0xFFFFFFFFu : (1u << uint(bits)) - 1u;
   return int(before) + bitCount(w & mask);
 #else
   // The paper's count: every word of the column, masked to the cells in front.
   int n = 0;
   for (int k = 0; k < SLICEMAP_TARGETS; ++k) {
-    uvec4 w = texelFetch(slicemapBits, ivec3(texel, layer + k), 0);
+    uvec4 w = SLICEMAP_FETCH(slicemapBits, column, layer + k);
     ivec4 bits = clamp(ivec4(slice) - (ivec4(0, 32, 64, 96) + 128 * k), ivec4(0), ivec4(32));
     uvec4 mask = mix((uvec4(1u) << uvec4(min(bits, ivec4(31)))) - 1u, uvec4(0xFFFFFFFFu), equal(bits, ivec4(32)));
     ivec4 c = bitCount(w & mask);
@@ -58,44 +94,52 @@ int bitsInFront(ivec2 texel, int layer, int slice) {
 
 // Transmittance of the voxelized occluders between the light and x: per colour class,
 // t^n with n the class's bits in front of x's slice. `biasSlices` moves the lookup towards the
-// light (surfaces: their own cell). 1 outside the light's views.
-vec3 slicemapTransmittance(vec3 x, float biasSlices) {
+// light (surfaces: their own cell), and `biasDepth` the depth (world units). 1 outside the
+// light's views.
+vec3 slicemapTransmittance(vec3 x, float biasSlices, float biasDepth) {
   vec3 T = vec3(1.0);
 #if SLICEMAP_CLASSES > 0
-  int face = 0;
-  if (slicemap.params.y > 1.5) {  // cube faces +x, -x, +y, -y, +z, -z
-    vec3 d = x - u.lightPos.xyz;
-    vec3 a = abs(d);
-    int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    face = 2 * axis + (d[axis] < 0.0 ? 1 : 0);
-  }
-  vec4 p = slicemap.faceViewProj[face] * vec4(x, 1.0);
-  vec2 st = p.xy / max(p.w, 1e-20) * 0.5 + 0.5;
-  bool inside = p.w > 1e-20 && all(greaterThanEqual(st, vec2(0.0))) && all(lessThan(st, vec2(1.0)));
-  int res = int(slicemap.params.x);
-  ivec2 texel = clamp(ivec2(st * float(res)), ivec2(0), ivec2(res - 1));
-  float depth = slicemapDepth(x);
+  Column column = slicemapColumn(x);
+  float depth = slicemapDepth(x) - biasDepth;
   float slices = slicemap.params.z;
-  for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
-    int column = face * SLICEMAP_CLASSES + c;
-    float coord = sliceCoordinate(texel, column, depth) - biasSlices;
-    int slice = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
-    int n = inside ? bitsInFront(texel, column * SLICEMAP_TARGETS, slice) : 0;
-    vec3 t = slicemap.classTransmittance[c].rgb;
-    T *= n == 0 ? vec3(1.0) : exp2(float(n) * log2(max(t, vec3(1e-30))));
+  // log2 of the transmittance: the classes' crossings in front of x, one exp2 at the end.
+  vec3 opticalDepth = vec3(0.0);
+#if SLICEMAP_PACKED
+  // Every class's words in the same targets: each target is fetched once for all classes.
+  for (int k = 0; k < SLICEMAP_TARGETS; ++k) {
+    uvec4 w = SLICEMAP_FETCH(slicemapBits, column, k);
+    for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
+      float coord = sliceCoordinate(column, c, depth) - biasSlices;
+      int slice = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
+      ivec4 word = ivec4(0, 1, 2, 3) + 4 * k - c * SLICEMAP_CLASS_WORDS;  // index among the class's words
+      bvec4 own = bvec4(uvec4(greaterThanEqual(word, ivec4(0))) * uvec4(lessThan(word, ivec4(SLICEMAP_CLASS_WORDS))));
+      ivec4 bits = clamp(ivec4(slice) - 32 * word, ivec4(0), ivec4(32));
+      uvec4 mask = mix((uvec4(1u) << uvec4(min(bits, ivec4(31)))) - 1u, uvec4(0xFFFFFFFFu), equal(bits, ivec4(32)));
+      ivec4 n = bitCount(w & mix(uvec4(0u), mask, own));
+      opticalDepth += float(column.inside ? n.x + n.y + n.z + n.w : 0) * slicemap.classLog2Transmittance[c].rgb;
+    }
   }
+#else
+  for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
+    float coord = sliceCoordinate(column, c, depth) - biasSlices;
+    int slice = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
+    int n = column.inside ? bitsInFront(column, c * SLICEMAP_TARGETS, slice) : 0;
+    opticalDepth += float(n) * slicemap.classLog2Transmittance[c].rgb;
+  }
+#endif
+  T = exp2(max(opticalDepth, vec3(-126.0)));
 #endif
   return T;
 }
 
 // Visibility of the light from x: the shared shadow map for opaque occluders (the paper's
 // transmittance shadow maps) unless they are voxelized too, times the slicemaps' transmittance.
-vec3 slicemapVisibility(vec3 x, float biasSlices) {
+vec3 slicemapVisibility(vec3 x) {
 #if SLICEMAP_OPAQUE_IN_SLICES
-  return slicemapTransmittance(x, biasSlices);
+  return slicemapTransmittance(x, 0.0, 0.0);
 #else
   float v = shadowVisibility(x);
-  return v > 0.0 ? v * slicemapTransmittance(x, biasSlices) : vec3(0.0);
+  return v > 0.0 ? v * slicemapTransmittance(x, 0.0, 0.0) : vec3(0.0);
 #endif
 }
 #endif

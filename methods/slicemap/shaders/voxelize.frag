@@ -10,7 +10,6 @@ in vec3 vColor;
 in vec2 vUv;
 in vec3 vAlpha;
 layout(location = 4) uniform int voxelClass;  // the class this draw voxelizes
-layout(location = 5) uniform int face;  // used by local slicing's lookup of the near/far maps
 layout(location = 6) uniform int opaqueDraw;  // 1 while the class's opaque meshes draw
 #ifdef NEAR_FAR_PASS
 layout(location = 0) out vec2 outNearFar;
@@ -30,12 +29,14 @@ void main() {
 #ifdef NEAR_FAR_PASS
   outNearFar = vec2(depth, -depth);
 #else
-  int column = face * SLICEMAP_CLASSES + voxelClass;
-  float coord = sliceCoordinate(ivec2(gl_FragCoord.xy), column, depth);
+  // The column of this fragment (local slicing reads its near/far map there).
+  float coord = sliceCoordinate(slicemapColumn(vPosition), voxelClass, depth);
   int slice = clamp(int(clamp(coord, 0.0, slicemap.params.z - 1.0)), 0, int(slicemap.params.z) - 1);
-  int target = slice >> 7, word = (slice >> 5) & 3;
+  // Packed classes: class c owns words c * SLICEMAP_CLASS_WORDS onwards of the shared targets.
+  int word = (SLICEMAP_PACKED != 0 ? voxelClass * SLICEMAP_CLASS_WORDS : 0) + (slice >> 5);
+  int target = word >> 2;
   uvec4 oneHot = uvec4(0u);
-  oneHot[word] = 1u << uint(slice & 31);
+  oneHot[word & 3] = 1u << uint(slice & 31);
   for (int k = 0; k < SLICEMAP_TARGETS; ++k) outBits[k] = k == target ? oneHot : uvec4(0u);
 #endif
 }
