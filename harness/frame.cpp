@@ -407,6 +407,10 @@ void SharedPasses::setShadowMapSize(int size) {
   if (shadow_.size != size) buildShadowMap(size);
 }
 
+void SharedPasses::lightMoved() {
+  if (shadow_.size > 0) buildShadowMap(shadow_.size);
+}
+
 void SharedPasses::updateUniforms(uint32_t frameIndex, uint32_t seed) {
   frameIndex_ = frameIndex;
   seed_ = seed;

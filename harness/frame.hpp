@@ -174,6 +174,8 @@ class SharedPasses {
   SharedPasses(const Scene& scene, const SceneGpu& geometry, const Effects& effects, int width, int height);
   // Rebuilds the shadow map if `size` changed.
   void setShadowMapSize(int size);
+  // Rebuilds the shadow map's projections for the scene's light after it moved (the viewer).
+  void lightMoved();
   void updateUniforms(uint32_t frameIndex, uint32_t seed);
   void renderShadowMap(PassTimer& timer);   // "Shadow Map"
   void setShadowCasters(bool on) { shadowCasters_ = on; }

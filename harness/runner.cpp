@@ -39,6 +39,45 @@ static size_t countNonFinite(const Image& img) {
   return n;
 }
 
+double Runner::setUp(Method& method, const ParamValues& params) {
+  int shadowMapSize = params.getInt("sm");
+  shared_->setShadowMapSize(shadowMapSize);
+  shared_->updateUniforms(0, options_.seed);
+  double setupMs = 0.0;
+  // Passes a scene does not call for are not built: without scattering the method is not set up.
+  if (effects_.scattering) {
+    SetupContext context{scene_, *geometry_, effects_, options_.width, options_.height, shadowMapSize, limits_};
+    glFinish();
+    auto start = std::chrono::steady_clock::now();
+    method.setup(context, params);
+    glFinish();
+    setupMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  // A method with its own light-space structure does not pay for the shared shadow map: it is
+  // cleared once (V = 1) and not rendered.
+  sharedShadowMap_ = !effects_.scattering || method.needsSharedShadowMap();
+  if (!sharedShadowMap_) shared_->clearShadowMap();
+  gl::checkErrors("method setup");
+  return setupMs;
+}
+
+void Runner::renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record) {
+  shared_->updateUniforms(frameIndex, options_.seed);
+  gl::resetPipelineState();
+  timer.beginFrame(record);
+  if (sharedShadowMap_) shared_->renderShadowMap(timer);
+  shared_->renderGBuffer(timer);
+  shared_->renderDirect(timer);
+  if (effects_.scattering) {
+    method.render(shared_->frame(), timer);
+    gl::resetPipelineState();
+  } else {
+    shared_->clearInscatter();
+  }
+  shared_->composite(timer);
+  timer.endFrame();
+}
+
 MethodRun Runner::run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress) {
   MethodRun result;
   result.method = method.name();
@@ -53,39 +92,11 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   }
   gl::resetDebugErrorCount();
   try {
-    shared_->setShadowMapSize(result.shadowMapSize);
-    shared_->updateUniforms(0, options_.seed);
-    // Passes a scene does not call for are not built: without scattering the method is not set up.
-    if (effects_.scattering) {
-      SetupContext context{scene_, *geometry_, effects_, options_.width, options_.height, result.shadowMapSize, limits_};
-      glFinish();
-      auto start = std::chrono::steady_clock::now();
-      method.setup(context, params);
-      glFinish();
-      result.setupMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    }
-    // A method with its own light-space structure does not pay for the shared shadow map: it is
-    // cleared once (V = 1) and not rendered.
-    bool sharedShadowMap = !effects_.scattering || method.needsSharedShadowMap();
-    if (!sharedShadowMap) shared_->clearShadowMap();
-    gl::checkErrors("method setup");
+    result.setupMs = setUp(method, params);
     PassTimer timer(options_.timer);
     int total = options_.warmup + options_.frames;
     for (int f = 0; f < total; ++f) {
-      shared_->updateUniforms(uint32_t(f), options_.seed);
-      gl::resetPipelineState();
-      timer.beginFrame(f >= options_.warmup);
-      if (sharedShadowMap) shared_->renderShadowMap(timer);
-      shared_->renderGBuffer(timer);
-      shared_->renderDirect(timer);
-      if (effects_.scattering) {
-        method.render(shared_->frame(), timer);
-        gl::resetPipelineState();
-      } else {
-        shared_->clearInscatter();
-      }
-      shared_->composite(timer);
-      timer.endFrame();
+      renderFrame(method, timer, uint32_t(f), f >= options_.warmup);
       gl::checkErrors("frame");
       if (progress) progress(f + 1, total);
     }

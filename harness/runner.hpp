@@ -54,6 +54,13 @@ class Runner {
   // Failure row with the reason; an unsupported scene becomes an Unsupported row.
   // progress(frame, total) is called after each frame.
   MethodRun run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress = {});
+  // run() one frame at a time (the viewer). setUp sizes the shadow map and sets the method up
+  // (wall-clock ms; throws on failure); renderFrame runs one frame of the pipeline, every pass
+  // timed (recorded when `record`). The scene's camera and light are read every frame: after moving the light call
+  // shared().lightMoved() and set the method up again.
+  double setUp(Method& method, const ParamValues& params);
+  void renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record = true);
+  SharedPasses& shared() { return *shared_; }
   const Effects& effects() const { return effects_; }
   const RunOptions& options() const { return options_; }
 
@@ -64,6 +71,7 @@ class Runner {
   Effects effects_;
   std::unique_ptr<SceneGpu> geometry_;
   std::unique_ptr<SharedPasses> shared_;
+  bool sharedShadowMap_ = true;  // of the method set up last
 };
 
 // Validates a method spec against the registry and the GL limits; throws UsageError.
