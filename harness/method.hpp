@@ -39,6 +39,22 @@ struct SetupContext {
   const gl::Limits& limits;
 };
 
+// One of a method's own GL buffers as the viewer shows it (vshadow view): the viewer reads the
+// chosen layer and level back and maps it to grey (or red-green, rgb).
+struct DebugView {
+  enum class Kind {
+    Value,  // float or depth texels; `channels` of them mapped from [lo, hi] to [0, 1]
+    Bits,   // RGBA32UI bit grid: 128 bits per texel and array layer; one bit shown per "layer"
+  };
+  std::string name;
+  GLuint texture = 0;  // 2D, 2D array, 3D or cube map, owned by the method
+  Kind kind = Kind::Value;
+  int layers = 1;      // Value: array layers, 3D slices or cube faces; Bits: bits per texel column
+  int levels = 1;      // mip levels to choose from
+  int channels = 1;    // Value: 1 grey (red), 2 red-green, 3 rgb
+  float lo = 0.0f, hi = 0.0f;  // lo >= hi: the range of the values read (auto)
+};
+
 class Method {
  public:
   virtual ~Method() = default;
@@ -76,6 +92,9 @@ class Method {
   // The largest relMSE of L_s against the reference this method promises at its default
   // parameters on every regular case of the hard-case suite (tests/stability_tests.cpp).
   virtual double declaredRelMseBound() const { return 0.05; }
+  // The method's own buffers for the viewer, valid after render(); the viewer adds the shared
+  // shadow map itself. Called only by the viewer, never inside a timed pass.
+  virtual std::vector<DebugView> debugViews() const { return {}; }
   // Figures for the result row, from the measured pass medians (e.g. samples per second).
   virtual std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const {
     (void)passes;

@@ -41,6 +41,11 @@ class DsmMethod : public Method {
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // The viewer's buffers: the opacity knots, four per layer (rgb shows the first three), per light view.
+  std::vector<DebugView> debugViews() const override {
+    if (!map_) return {};
+    return {{"deep shadow map knots", map_.id(), DebugView::Kind::Value, views_.faces * layers_, 1, 3}};
+  }
 
  private:
   int resolution_ = 512, genSteps_ = 256, viewSteps_ = 128, hazeSteps_ = 64, knots_ = 3, layers_ = 1;

@@ -19,6 +19,12 @@ class MinmaxMethod : public Method {
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // The viewer's buffers: one epipolar slice per row, and its 1D min-max levels side by side (min, max).
+  std::vector<DebugView> debugViews() const override {
+    if (!rectified_) return {};
+    return {{"rectified shadow map", rectified_.id()},
+            {"min-max levels (red min, green max)", tree_.id(), DebugView::Kind::Value, 1, 1, 2}};
+  }
 
  private:
   void allocate(int slices, int rowLength, int rank, bool textured);

@@ -16,6 +16,13 @@ class RaymarchMethod : public Method {
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // The viewer's buffers (besides the shared shadow map): area-light point shadows, volume optical depth.
+  std::vector<DebugView> debugViews() const override {
+    std::vector<DebugView> views;
+    if (vplShadows_) views.push_back({"area-light point shadow cubes", vplShadows_.id(), DebugView::Kind::Value, 6 * lightSamples_});
+    if (volumes_) views.push_back({"volume optical depth", opticalDepth_[0].id()});
+    return views;
+  }
 
  private:
   // The passes one frame needs so that no invocation exceeds the loop budget.

@@ -101,6 +101,11 @@ class VsvMethod : public Method {
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // The viewer's buffers: the scanned voxel grid, one phi slice (bit) at a time (alpha across, theta down).
+  std::vector<DebugView> debugViews() const override {
+    if (!voxels_) return {};
+    return {{"voxel grid (phi slices)", voxels_->texture(), DebugView::Kind::Bits, voxels_->size().nPhi}};
+  }
 
  private:
   void updateGrid(const Frame& frame);
