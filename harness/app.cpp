@@ -35,15 +35,6 @@ struct Fatal : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-void parseSize(const std::string& text, int& w, int& h) {
-  std::smatch m;
-  static const std::regex re(R"(^(\d{1,6})x(\d{1,6})$)");
-  if (!std::regex_match(text, m, re)) throw UsageError("--size '" + text + "': expected WxH, e.g. 512x512");
-  w = std::stoi(m[1]);
-  h = std::stoi(m[2]);
-  if (w < 1 || h < 1) throw UsageError("--size '" + text + "': width and height must be at least 1");
-}
-
 std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
   std::string line;
@@ -88,6 +79,15 @@ struct Job {
 };
 
 }  // namespace
+
+void parseSize(const std::string& text, int& w, int& h) {
+  std::smatch m;
+  static const std::regex re(R"(^(\d{1,6})x(\d{1,6})$)");
+  if (!std::regex_match(text, m, re)) throw UsageError("--size '" + text + "': expected WxH, e.g. 512x512");
+  w = std::stoi(m[1]);
+  h = std::stoi(m[2]);
+  if (w < 1 || h < 1) throw UsageError("--size '" + text + "': width and height must be at least 1");
+}
 
 int listCommand(const MethodRegistry& registry) {
   std::printf("Scenes (built in; or pass a path to a scene .json):\n");

@@ -29,6 +29,8 @@ struct RunRequest {
   std::string commandLine;
 };
 
+// "WxH" into width and height; UsageError for anything else.
+void parseSize(const std::string& text, int& w, int& h);
 int listCommand(const MethodRegistry& registry);
 int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& registry);
 // Runs a command and maps its errors to the exit status: bad input (UsageError, SceneError) 2

@@ -6,6 +6,7 @@
 #include "app.hpp"
 #include "merge.hpp"
 #include "sweep.hpp"
+#include "viewer.hpp"
 #include "methods/registry.hpp"
 
 int main(int argc, char** argv) {
@@ -76,6 +77,22 @@ int main(int argc, char** argv) {
   mergeCmd->add_flag("--allow-mixed-renderers", merge.allowMixedRenderers,
                      "merge rows of one scene, size and seed that come from different renderers");
 
+  // The interactive viewer (harness/viewer.hpp; README "Viewer").
+  vs::ViewRequest view;
+  auto* viewCmd = app.add_subcommand("view", "interactive window over one scene: the same frame pipeline and timer as "
+                                             "run, keys and a panel (README \"Viewer\"); needs an X server");
+  viewCmd->add_option("--scene", view.scene, "built-in scene name or path to a scene .json")->required();
+  viewCmd->add_option("--method", view.methods, "method spec (repeatable, at most 9: keys 1-9; default every method)");
+  viewCmd->add_option("--size", view.size, "image size WxH")->capture_default_str();
+  viewCmd->add_option("--seed", view.seed, "seed for jitter")->capture_default_str()->check(CLI::Range(0LL, 4294967295LL));
+  viewCmd->add_option("--timer", view.timer, "timing strategy")->capture_default_str()->check(CLI::IsMember({"auto", "gpu", "wall"}));
+  viewCmd->add_option("--cache", view.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");
+  viewCmd->add_option("--out", view.out, "folder for screenshots and scene files saved by key")->capture_default_str();
+  viewCmd->add_option("--frames", view.frames, "render N frames (after --script), then exit")->check(CLI::Range(1, 1000000));
+  viewCmd->add_option("--screenshot", view.screenshot, "after the frames, write FILE.png and FILE.exr of the view");
+  viewCmd->add_option("--script", view.script, "scripted input, one command per line (README \"Viewer\"), then exit");
+  viewCmd->add_flag("--strict-gl", view.strictGl, "treat any GL debug error as fatal");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -90,6 +107,7 @@ int main(int argc, char** argv) {
   if (planCmd->parsed()) return vs::sweepPlanCommand(sweepFile, sweepOptions, vs::registeredMethods());
   if (sweepRunCmd->parsed()) return vs::sweepRunCommand(sweepFile, sweepOptions, vs::registeredMethods());
   if (sweepRefCmd->parsed()) return vs::sweepReferenceCommand(sweepFile, sweepOptions, vs::registeredMethods());
+  if (viewCmd->parsed()) return vs::viewCommand(view, vs::registeredMethods());
   if (mergeCmd->parsed()) return vs::mergeCommand(merge, vs::registeredMethods());
   if (app.got_subcommand("run")) return vs::runCommand(run, false, vs::registeredMethods());
   return vs::runCommand(shootout, true, vs::registeredMethods());
