@@ -794,7 +794,7 @@ class Viewer {
         std::vector<double> last(all.end() - std::min<ptrdiff_t>(30, ptrdiff_t(all.size())), all.end());
         if (last.empty()) continue;
         TimingStats s = summarise(last);
-        ImGui::Text("%-22s %9.2f ms%s", pass.c_str(), s.medianMs, isSharedPass(pass) ? "" : " *");
+        ImGui::Text("%-22s %9.2f ms%s", pass.c_str(), s.medianMs, isSharedPass(pass) || pass == PassTimer::kFrame ? "" : " *");
       }
     }
     if (ImGui::CollapsingHeader("parameters", ImGuiTreeNodeFlags_DefaultOpen)) drawParams();
