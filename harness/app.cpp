@@ -4,6 +4,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -250,6 +252,28 @@ class EqualQuality {
   std::map<std::tuple<std::string, int, int>, Point> points_;
 };
 
+// The rungs of a ladder of `size` that --rungs picks, in ladder order, each once. Throws UsageError
+// for a word that is none of all, first, middle, last or a 0-based index; an index past the end of a
+// ladder picks nothing from it.
+std::vector<size_t> pickRungs(const std::vector<std::string>& rungs, size_t size) {
+  std::vector<bool> picked(size, rungs.empty());
+  for (const std::string& rung : rungs) {
+    if (rung == "all") {
+      picked.assign(size, true);
+    } else if (rung == "first" || rung == "middle" || rung == "last") {
+      if (size > 0) picked[rung == "first" ? 0 : rung == "middle" ? size / 2 : size - 1] = true;
+    } else if (!rung.empty() && rung.size() < 6 && std::all_of(rung.begin(), rung.end(), [](char c) { return std::isdigit(uint8_t(c)) != 0; })) {
+      if (size_t(std::stoul(rung)) < size) picked[std::stoul(rung)] = true;
+    } else {
+      throw UsageError("--rungs: '" + rung + "' is not all, first, middle, last or a rung index (0, 1, ...)");
+    }
+  }
+  std::vector<size_t> out;
+  for (size_t i = 0; i < size; ++i)
+    if (picked[i]) out.push_back(i);
+  return out;
+}
+
 // Checks that need no GL context: size, scene, method names, the reference spec.
 RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegistry& registry) {
   RunPlan plan;
@@ -257,6 +281,7 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   plan.scene = loadScene(req.scene);
   plan.effects = deriveEffects(plan.scene);
   for (const auto& spec : req.methods) createMethod(registry, shootout ? spec : parseMethodSpec(spec).method);
+  pickRungs(req.rungs, 0);  // the words are valid
   plan.exactReference = req.referenceSpec == "exact";
   plan.haveExact = req.exact || plan.exactReference;
   plan.haveReference = !req.noReference;
@@ -281,7 +306,9 @@ void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodR
       if (!req.methods.empty() && std::find(req.methods.begin(), req.methods.end(), info.name) == req.methods.end())
         continue;
       auto method = info.create();
-      for (const auto& rung : method->qualityLadder()) {
+      const std::vector<std::string> ladder = method->qualityLadder();
+      for (size_t index : pickRungs(req.rungs, ladder.size())) {
+        const std::string& rung = ladder[index];
         std::string spec = info.name + (rung.empty() ? "" : ":" + rung);
         specs.push_back(spec);
         // A method that cannot render the scene gets one row saying why, not one per rung.

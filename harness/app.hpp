@@ -11,6 +11,7 @@ namespace vs {
 struct RunRequest {
   std::string scene;
   std::vector<std::string> methods;  // specs; for shootout, optional method-name filter
+  std::vector<std::string> rungs;    // shootout: which rungs of each ladder (all, first, middle, last, index); empty: all
   std::string size = "512x512";
   std::string out = "vshadow-results";
   std::string cacheDir;              // empty: defaultCacheDir()

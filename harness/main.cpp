@@ -49,6 +49,10 @@ int main(int argc, char** argv) {
       "shootout", "run every method that supports the scene at its ladder of quality settings against the reference");
   addCommon(shootCmd, shootout);
   shootCmd->add_option("--method", shootout.methods, "only these methods (by name; repeatable)");
+  shootCmd->add_option("--rungs", shootout.rungs,
+                       "only these rungs of each ladder: all, first, middle (index size/2), last or a 0-based index "
+                       "(comma-separated or repeatable; default all)")
+      ->delimiter(',');
 
   // Sweeps (harness/sweep.hpp) and merging their shards (harness/merge.hpp).
   std::string sweepFile;

@@ -252,3 +252,28 @@ TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
 
 }  // namespace
 }  // namespace vs::testing
+
+namespace vs::testing {
+namespace {
+
+// --rungs picks rungs of every ladder by position: raymarch's six rungs, first and middle (6/2 = 3).
+TEST(CliTest, RungsPicksPositionsOfEachLadder) {
+  std::string dir = makeTempDir("rungs");
+  CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--method", "raymarch", "--rungs", "first,middle",
+                                "--rungs", "99", "--size", "32x24", "--frames", "1", "--warmup", "0", "--no-images",
+                                "--out", dir + "/out", "--cache", dir + "/cache"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto rows = CsvTable::parse(readFile(dir + "/out/runs.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  size_t params = size_t(std::find(rows[0].begin(), rows[0].end(), "params") - rows[0].begin());
+  EXPECT_EQ(rows[1][params].rfind("steps=8:", 0), 0u) << rows[1][params];
+  EXPECT_EQ(rows[2][params].rfind("steps=64:", 0), 0u) << rows[2][params];
+  // A word that is no position is bad input: exit 2 before anything is written.
+  CommandResult bad = runVshadow({"shootout", "--scene", "spheres", "--rungs", "middel", "--out", dir + "/bad"});
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("--rungs: 'middel'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir + "/bad"));
+}
+
+}  // namespace
+}  // namespace vs::testing
