@@ -36,6 +36,18 @@ int nextPowerOfTwo(int v) {
 void dispatch2D(int width, int height) {
   glDispatchCompute(GLuint((width + 63) / 64), GLuint(std::max(height, 1)), 1);
 }
+
+int rankGroups(int rank) { return (rank + 3) / 4; }
+
+// rows x columns floats (row i = rank i) as ceil(rows / 4) rows of RGBA texels, four ranks per
+// texel, the missing ranks 0: what the Integration shader reads with one fetch per four ranks.
+std::vector<float> packRanks(const std::vector<float>& values, int rows, int columns, int allocatedRows) {
+  std::vector<float> packed(size_t(rankGroups(allocatedRows)) * size_t(columns) * 4, 0.0f);
+  for (int i = 0; i < rows; ++i)
+    for (int x = 0; x < columns; ++x)
+      packed[(size_t(i / 4) * size_t(columns) + size_t(x)) * 4 + size_t(i % 4)] = values[size_t(i) * size_t(columns) + size_t(x)];
+  return packed;
+}
 }  // namespace
 
 std::string MinmaxMethod::description() const {
@@ -82,10 +94,15 @@ void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params)
   rowLength_ = slices_ = allocatedRank_ = 0;
 
   std::string defines = sceneDefines(context.effects);
+  // Integration is specialised per variant: a switch read from a uniform inside the traversal
+  // loop would cost as if always taken.
+  std::string variant = "#define MINMAX_RANK " + std::to_string(std::min(rank_, kMaxRank)) + "\n#define MINMAX_TEXTURED " +
+                        (textured_ ? "1" : "0") + "\n#define MINMAX_DELAY_GAMMA " + (delayGamma_ ? "1" : "0") +
+                        "\n#define MINMAX_UP_ONE_LEVEL " + (upOneLevel_ ? "1" : "0") + "\n";
   rectifyProgram_ = gl::buildCompute("methods/minmax/shaders/rectify.comp", defines);
   mipmapProgram_ = gl::buildCompute("methods/minmax/shaders/mipmap.comp", defines);
   if (textured_) lightTextureProgram_ = gl::buildCompute("methods/minmax/shaders/light_texture.comp", defines);
-  integrateProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag", defines);
+  integrateProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag", defines + variant);
   nearEpipoleProgram_ = gl::buildFullscreen("methods/minmax/shaders/near_epipole.frag", defines);
   epipolarUbo_ = gl::createBuffer(sizeof(EpipolarUniforms));
 }
@@ -104,11 +121,11 @@ void MinmaxMethod::allocate(int slices, int rowLength, int rank, bool textured) 
   }
   tree_ = gl::createTexture2D(GL_RG32F, 2 * rowLength, slices);
   gl::setFilter(tree_.id(), GL_NEAREST, GL_NEAREST);
-  basisBeta_ = gl::createTexture2D(GL_R32F, minmax::kGrid, rank);
+  basisBeta_ = gl::createTexture2D(GL_RGBA32F, minmax::kGrid, rankGroups(rank));
   gl::setFilter(basisBeta_.id(), GL_LINEAR, GL_LINEAR);
   basisGamma_ = gl::createTexture2D(GL_R32F, minmax::kGrid, rank);
   gl::setFilter(basisGamma_.id(), GL_NEAREST, GL_NEAREST);
-  gammaPrefix_ = gl::createTexture2D(GL_R32F, kPrefixRes + 1, rank);
+  gammaPrefix_ = gl::createTexture2D(GL_RGBA32F, kPrefixRes + 1, rankGroups(rank));
   gl::setFilter(gammaPrefix_.id(), GL_LINEAR, GL_LINEAR);
   texturedPrefix_ = gl::Texture();
   if (textured) {
@@ -176,9 +193,15 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
     m.g = frame.scene.medium.g;
     minmax::LowRank lr = minmax::lowRankApproximation(epipolar_, m, allocatedRank_, kPrefixRes);
     energy_ = lr.energy;
-    glTextureSubImage2D(basisBeta_.id(), 0, 0, 0, minmax::kGrid, lr.rank, GL_RED, GL_FLOAT, lr.basisBeta.data());
-    glTextureSubImage2D(basisGamma_.id(), 0, 0, 0, minmax::kGrid, lr.rank, GL_RED, GL_FLOAT, lr.basisGamma.data());
-    glTextureSubImage2D(gammaPrefix_.id(), 0, 0, 0, kPrefixRes + 1, lr.rank, GL_RED, GL_FLOAT, lr.prefix.data());
+    // Ranks the SVD did not give (lr.rank < the allocated rank) are zero, not stale.
+    int groups = rankGroups(allocatedRank_);
+    std::vector<float> basisGamma(size_t(allocatedRank_) * minmax::kGrid, 0.0f);
+    std::copy(lr.basisGamma.begin(), lr.basisGamma.begin() + long(lr.rank) * minmax::kGrid, basisGamma.begin());
+    glTextureSubImage2D(basisBeta_.id(), 0, 0, 0, minmax::kGrid, groups, GL_RGBA, GL_FLOAT,
+                        packRanks(lr.basisBeta, lr.rank, minmax::kGrid, allocatedRank_).data());
+    glTextureSubImage2D(basisGamma_.id(), 0, 0, 0, minmax::kGrid, allocatedRank_, GL_RED, GL_FLOAT, basisGamma.data());
+    glTextureSubImage2D(gammaPrefix_.id(), 0, 0, 0, kPrefixRes + 1, groups, GL_RGBA, GL_FLOAT,
+                        packRanks(lr.prefix, lr.rank, kPrefixRes + 1, allocatedRank_).data());
   }
   if (textured_) {
     auto scope = timer.scope(kLightTexturePass);

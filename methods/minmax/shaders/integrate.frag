@@ -5,54 +5,62 @@
 // Same algorithm as vs::minmax::traverseRow (methods/minmax/traversal.hpp).
 #include "common.glsl"
 #include "epipolar.glsl"
+// Built per variant (minmax.cpp): MINMAX_RANK, MINMAX_TEXTURED, MINMAX_DELAY_GAMMA and
+// MINMAX_UP_ONE_LEVEL are compile-time constants, since llvmpipe runs both sides of every branch
+// and every iteration of a loop bounded by a uniform under a mask.
+#define kRankGroups ((MINMAX_RANK + 3) / 4)
 layout(binding = 10) uniform sampler2D tree;            // RG32F, 2d x slices, nearest
-layout(binding = 11) uniform sampler2D basisBeta;       // kGridSize x rank, linear
-layout(binding = 12) uniform sampler2D gammaPrefix;     // (prefixRes + 1) x rank, linear
+layout(binding = 11) uniform sampler2D basisBeta;       // RGBA32F, kGridSize x kRankGroups (4 ranks per texel), linear
+layout(binding = 12) uniform sampler2D gammaPrefix;     // RGBA32F, (prefixRes + 1) x kRankGroups, linear
 layout(binding = 13) uniform sampler2D texturedPrefix;  // (texRes + 1) x (slices * rank), linear
 layout(location = 0) out vec4 outInscatter;
 
-vec3 coefficient[kMaxRank];
+#if MINMAX_TEXTURED
+vec3 coefficient[MINMAX_RANK];
+#else
+vec4 coefficient[kRankGroups];  // four ranks per vec4: the light is grey along each light ray
+#endif
 int rowSlice = 0;
 
-// Adds the lit interval [a, b] (texel units of the rectified row, or beyond for the unoccluded tail).
-void addLitInterval(float a, float b) {
-  float toGamma = ep.gammaInfo.x / ep.gammaInfo.z;
-  float gammaA = a * toGamma, gammaB = b * toGamma;
-  int rank = ep.counts.y;
-  if (ep.flags.z != 0) {
-    float res = float(ep.counts.w);
-    float xa = (gammaA / ep.gammaInfo.y * res + 0.5) / (res + 1.0);
-    float xb = (gammaB / ep.gammaInfo.y * res + 0.5) / (res + 1.0);
-    float rows = float(ep.counts.x * rank);
-    for (int i = 0; i < rank; ++i) {
-      float y = (float(rowSlice * rank + i) + 0.5) / rows;
-      coefficient[i] += textureLod(texturedPrefix, vec2(xb, y), 0.0).rgb - textureLod(texturedPrefix, vec2(xa, y), 0.0).rgb;
-    }
-  } else {
-    float res = float(ep.counts.z);
-    float xa = (gammaA / ep.gammaInfo.y * res + 0.5) / (res + 1.0);
-    float xb = (gammaB / ep.gammaInfo.y * res + 0.5) / (res + 1.0);
-    for (int i = 0; i < rank; ++i) {
-      float y = (float(i) + 0.5) / float(rank);
-      coefficient[i] += vec3(textureLod(gammaPrefix, vec2(xb, y), 0.0).r - textureLod(gammaPrefix, vec2(xa, y), 0.0).r);
-    }
-  }
+// Adds sign * P_i(x) to every coefficient, x in texel units of the rectified row (or beyond it for
+// the unoccluded tail). A lit interval [a, b] is P(b) - P(a): the traversal adds its two ends as
+// events, so that one lookup per event serves all ranks (four ranks per fetch without a texture).
+void addPrefix(float sign, float x) {
+  float gamma = x * (ep.gammaInfo.x / ep.gammaInfo.z);
+#if MINMAX_TEXTURED
+  float res = float(ep.counts.w);
+  float xc = (gamma / ep.gammaInfo.y * res + 0.5) / (res + 1.0);
+  float rows = float(ep.counts.x * MINMAX_RANK);
+  for (int i = 0; i < MINMAX_RANK; ++i)
+    coefficient[i] += sign * textureLod(texturedPrefix, vec2(xc, (float(rowSlice * MINMAX_RANK + i) + 0.5) / rows), 0.0).rgb;
+#else
+  float res = float(ep.counts.z);
+  float xc = (gamma / ep.gammaInfo.y * res + 0.5) / (res + 1.0);
+  for (int g = 0; g < kRankGroups; ++g)
+    coefficient[g] += sign * textureLod(gammaPrefix, vec2(xc, (float(g) + 0.5) / float(kRankGroups)), 0.0);
+#endif
 }
 
 int treeLevel(uint node) { return findMSB(node); }
+
+// The next node after a step to the right: up while it is a left child's right sibling's parent
+// (paper 3.5: one level per step with MINMAX_UP_ONE_LEVEL).
+uint climb(uint node) {
+#if MINMAX_UP_ONE_LEVEL
+  if ((node & 1u) == 0u && node > 1u) node >>= 1;
+#else
+  while ((node & 1u) == 0u && node > 1u) node >>= 1;
+#endif
+  return node;
+}
 
 void traverseRow(int d, float beta, float g0, float g1) {
   g0 = clamp(g0, 0.0, float(d));
   g1 = clamp(g1, 0.0, float(d));
   if (!(g1 > g0)) return;
-  bool upOneLevel = ep.flags.x != 0, delayGamma = ep.flags.y != 0;
-  uint node = uint(d) + uint(min(int(floor(g0)), d - 1));
-  if (upOneLevel) {
-    if ((node & 1u) == 0u && node > 1u) node >>= 1;
-  } else {
-    while ((node & 1u) == 0u && node > 1u) node >>= 1;
-  }
-  float runStart = -1.0, runEnd = -1.0;
+  uint node = climb(uint(d) + uint(min(int(floor(g0)), d - 1)));
+  bool inRun = false;  // inside a run of lit nodes, whose start was subtracted
+  float runEnd = 0.0;
   int maxIterations = 4 * d + 64;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
     int level = treeLevel(node);
@@ -66,28 +74,26 @@ void traverseRow(int d, float beta, float g0, float g1) {
       node *= 2u;
       continue;
     }
+    float a = max(start, g0), b = min(end, g1);
+#if MINMAX_DELAY_GAMMA
+    // One event at most per node, at a single call site: a run starts (-P(a)) or ends (+P(end)).
+    float eventSign = lit ? (inRun ? 0.0 : -1.0) : (inRun ? 1.0 : 0.0);
+    float eventX = lit ? a : runEnd;
+    if (eventSign != 0.0) addPrefix(eventSign, eventX);
+    inRun = lit;
+    if (lit) runEnd = b;
+#else
     if (lit) {
-      float a = max(start, g0), b = min(end, g1);
-      if (!delayGamma) {
-        addLitInterval(a, b);
-      } else {
-        if (runStart < 0.0) runStart = a;
-        runEnd = b;
-      }
-    } else if (runStart >= 0.0) {
-      addLitInterval(runStart, runEnd);
-      runStart = -1.0;
+      addPrefix(1.0, b);
+      addPrefix(-1.0, a);
     }
+#endif
     if (end >= g1) break;
     node += 1u;
     if ((node & (node - 1u)) == 0u) break;
-    if (upOneLevel) {
-      if ((node & 1u) == 0u && node > 1u) node >>= 1;
-    } else {
-      while ((node & 1u) == 0u && node > 1u) node >>= 1;
-    }
+    node = climb(node);
   }
-  if (runStart >= 0.0) addLitInterval(runStart, runEnd);
+  if (inRun) addPrefix(1.0, runEnd);
 }
 
 void main() {
@@ -104,18 +110,31 @@ void main() {
     outInscatter = vec4(0.0, 0.0, 0.0, 1.0);
     return;
   }
-  int rank = ep.counts.y;
-  for (int i = 0; i < rank; ++i) coefficient[i] = vec3(0.0);
+#if MINMAX_TEXTURED
+  for (int i = 0; i < MINMAX_RANK; ++i) coefficient[i] = vec3(0.0);
+#else
+  for (int g = 0; g < kRankGroups; ++g) coefficient[g] = vec4(0.0);
+#endif
   int d = int(ep.gammaInfo.z);
   float gammaEnd = min(gammaAlongRay(dist, beta, sinBeta), ep.gammaInfo.y);
   float toTexel = ep.gammaInfo.z / ep.gammaInfo.x;
   traverseRow(d, beta, 0.0, gammaEnd * toTexel);
   // Directional light: beyond gammaMap no light ray meets the scene, so the tail is lit.
-  if (gammaEnd > ep.gammaInfo.x) addLitInterval(float(d), gammaEnd * toTexel);
+  if (gammaEnd > ep.gammaInfo.x) {
+    addPrefix(1.0, gammaEnd * toTexel);
+    addPrefix(-1.0, float(d));
+  }
   vec3 sum = vec3(0.0);
   float y = betaGridCoord(beta);
-  for (int i = 0; i < rank; ++i)
-    sum += textureLod(basisBeta, vec2(y, (float(i) + 0.5) / float(rank)), 0.0).r * coefficient[i];
+#if MINMAX_TEXTURED
+  for (int g = 0; g < kRankGroups; ++g) {
+    vec4 basis = textureLod(basisBeta, vec2(y, (float(g) + 0.5) / float(kRankGroups)), 0.0);
+    for (int j = 0; j < 4 && 4 * g + j < MINMAX_RANK; ++j) sum += basis[j] * coefficient[4 * g + j];
+  }
+#else
+  for (int g = 0; g < kRankGroups; ++g)
+    sum += vec3(dot(textureLod(basisBeta, vec2(y, (float(g) + 0.5) / float(kRankGroups)), 0.0), coefficient[g]));
+#endif
   vec3 color = u.lightColor.rgb;
   vec3 result = max(color * sum / (ep.axis.w * sinBeta), vec3(0.0));
   if (any(isnan(result)) || any(isinf(result))) result = vec3(0.0);
