@@ -2,9 +2,11 @@
 // "Compute L_s" (Eq. 5): a Riemann sum over φ along the pixel's eye ray, visibility from one
 // 128-bit texel per layer of the scanned VSV. A point at light angle φ on the ray at eye angle α
 // lies at s = D sin φ / sin(α + φ), and ds/dφ = D sin α / sin²(α + φ), which cancels the light's
-// 1/r² (r = D sin α / sin(α + φ)), so uniform steps in φ suit the integrand. Each step's
-// visibility is the lit fraction of the φ bins it covers; with a light texture a step spans
-// `coarse` bins (coarse stepping), otherwise one. Directional lights: see parallelInscatter.
+// 1/r² (r = D sin α / sin(α + φ)), so the integrand is smooth in φ. Without a light texture it is
+// taken as linear over groups of VSV_GROUP bins, evaluated at the groups' ends, and the lit bins of
+// a group are counted with bitCount (their number and their first moment): one light evaluation
+// per group instead of one per bin. With a light texture each step spans `coarse` bins (coarse
+// stepping) and reads its bins one by one. Directional lights: see parallelInscatter.
 #include "common.glsl"
 #include "epipolar.glsl"
 layout(binding = 10) uniform usampler2DArray voxels;
@@ -59,6 +61,127 @@ vec3 parallelInscatter(vec3 dir, float dist, float alpha, int col, int row, floa
   return sum * sigmaS() * phase(dot(u.lightDir.xyz, -dir));
 }
 
+// ---- Untextured lights: groups of VSV_GROUP bins (8, 16 or 32) within one 32-bit word.
+#ifndef VSV_GROUP
+#define VSV_GROUP 16
+#endif
+// Bit k of a bin's index within its group, as masks over the group's bits: the first moment of the
+// lit bins is sum_k 2^k bitCount(lit & kIndexBit[k]).
+const uint kIndexBit[5] = uint[5](0xAAAAAAAAu, 0xCCCCCCCCu, 0xF0F0F0F0u, 0xFF00FF00u, 0xFFFF0000u);
+#define kGroupLog2 (VSV_GROUP == 32 ? 5 : (VSV_GROUP == 16 ? 4 : 3))
+
+// Point and spot lights: the integrand per unit φ (σs left out). ds/dφ = r² / (D sin α) with r
+// the distance from the grid's light, taken from the point itself so that it stays consistent
+// where s is clipped to the ray's end.
+vec3 pointIntegrand(float phi, vec3 eye, vec3 dir, float dist, float alpha, float D, float DsinAlpha) {
+  float sinSum = max(sin(alpha + phi), 1e-12);
+  float s = min(D * sin(phi) / sinSum, dist);
+  vec3 x = eye + dir * s;
+  vec3 toGrid = x - vsv.gridLight.xyz;
+  float jacobian = dot(toGrid, toGrid) / max(DsinAlpha, 1e-30);
+  return exp(-sigmaT() * s) * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x) * jacobian;
+}
+
+// The lit bins of group q of word k of a layer's texel, among the first `fullBins` bins.
+uint litBits(uvec4 bits, int k, int q, int first, int fullBins) {
+  int inGroup = clamp(fullBins - first, 0, VSV_GROUP);
+  return ~bitfieldExtract(bits[k], VSV_GROUP * q, VSV_GROUP) & bitfieldExtract(0xFFFFFFFFu, 0, inGroup);
+}
+
+// Point and spot lights: ∫_0^phiEnd integrand × V dφ over the bins of column (col, row). Over each
+// group the integrand is taken as linear through its values at the group's two Gauss points
+// (never at φ = 0, where the light may sit at the eye, nor at the ray's clipped end); a group's
+// lit bins enter through their count n0 and first moment n1. The bin phiEnd cuts counts over its
+// covered part.
+vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int row, float binWidth, float phiEnd) {
+  const float kGauss = 0.28867513459;  // 1 / (2 sqrt 3)
+  float D = gridDistance();
+  float DsinAlpha = D * max(sin(alpha), 0.0);
+  float binsCovered = min(phiEnd / binWidth, float(nPhi()));
+  int fullBins = int(binsCovered);
+  vec3 sum = vec3(0.0);
+  int layers = min((fullBins + 127) >> 7, vsv.grid.w);
+  for (int layer = 0; layer < layers; ++layer) {
+    uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
+    for (int k = 0; k < 4; ++k) {
+      for (int q = 0; q < 32 / VSV_GROUP; ++q) {
+        int first = 128 * layer + 32 * k + VSV_GROUP * q;
+        uint lit = litBits(bits, k, q, first, fullBins);
+        float n0 = float(bitCount(lit)), n1 = 0.0;
+        for (int b = 0; b < kGroupLog2; ++b) n1 += float(bitCount(lit & kIndexBit[b]) << b);
+        float phiA = float(first) * binWidth;
+        float phiB = min(float(first + VSV_GROUP) * binWidth, phiEnd);
+        float mid = 0.5 * (phiA + phiB), offset = max(phiB - phiA, 0.0) * kGauss;
+        vec3 g1 = pointIntegrand(mid - offset, eye, dir, dist, alpha, D, DsinAlpha);
+        vec3 g2 = pointIntegrand(mid + offset, eye, dir, dist, alpha, D, DsinAlpha);
+        vec3 slope = (g2 - g1) / max(2.0 * offset, 1e-30);
+        // Sum over lit bins j of g(φ_A + (j + 1/2) w) w with g linear through the two points.
+        vec3 groupSum = binWidth * (n0 * 0.5 * (g1 + g2) + slope * (binWidth * (n1 + 0.5 * n0) - n0 * (mid - phiA)));
+        if (first < fullBins) sum += groupSum;
+      }
+    }
+  }
+  float partial = binsCovered - float(fullBins);
+  if (partial > 0.0 && fullBins < nPhi()) {
+    uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
+    bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
+    float phi = (float(fullBins) + 0.5 * partial) * binWidth;
+    if (!shadowed) sum += partial * binWidth * pointIntegrand(phi, eye, dir, dist, alpha, D, DsinAlpha);
+  }
+  return sum;
+}
+
+// Directional light without a texture: L_in is constant and φ = s sin α, so each lit bin adds
+// ∫ e^{-σt s} ds over its span of the ray exactly: a geometric series in the bin index, summed per
+// group over its lit bits. Returns ∫_0^dist e^{-σt s} V ds; beyond φ_max the ray is lit.
+float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, float binWidth, float pMax) {
+  float sinAlpha = max(sin(alpha), 0.0);
+  float yEnd = dist * sinAlpha;
+  float sigma = sigmaT();
+  // ∫_a^b e^{-σt s} ds, accurate for σt (b - a) -> 0.
+  #define EXP_INTEGRAL(a, b) (sigma * ((b) - (a)) > 1e-4 ? (exp(-sigma * (a)) - exp(-sigma * (b))) / sigma : ((b) - (a)) * exp(-sigma * (a)))
+  if (yEnd < binWidth) {  // nearly along the axis: the whole ray in the first bin
+    uvec4 bits = texelFetch(voxels, ivec3(col, row, 0), 0);
+    return (bits.x & 1u) != 0u ? 0.0 : EXP_INTEGRAL(0.0, dist);
+  }
+  float binLength = binWidth / sinAlpha;  // of the ray, per bin
+  float rho = exp(-sigma * binLength);
+  float perBin = EXP_INTEGRAL(0.0, binLength);
+  float binsCovered = min(yEnd, pMax) / binWidth;
+  int fullBins = min(int(binsCovered), nPhi());
+  float sum = 0.0;
+  int layers = min((fullBins + 127) >> 7, vsv.grid.w);
+  for (int layer = 0; layer < layers; ++layer) {
+    uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
+    for (int k = 0; k < 4; ++k) {
+      for (int q = 0; q < 32 / VSV_GROUP; ++q) {
+        int first = 128 * layer + 32 * k + VSV_GROUP * q;
+        uint lit = litBits(bits, k, q, first, fullBins);
+        float series = 0.0, power = 1.0;
+        for (int j = 0; j < VSV_GROUP; ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
+        sum += exp(-sigma * float(first) * binLength) * series * perBin;
+      }
+    }
+  }
+  float sCut = float(fullBins) * binLength;  // the rest of the ray from here
+  if (fullBins < nPhi() && yEnd <= pMax) {
+    uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
+    bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
+    if (!shadowed) sum += EXP_INTEGRAL(sCut, dist);
+  } else if (yEnd > pMax) {
+    float sMax = pMax / sinAlpha;
+    // The bin φ_max cuts (when the range is not a whole number of bins), then the lit rest.
+    if (fullBins < nPhi()) {
+      uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
+      bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
+      if (!shadowed) sum += EXP_INTEGRAL(sCut, sMax);
+    }
+    sum += EXP_INTEGRAL(sMax, dist);
+  }
+  #undef EXP_INTEGRAL
+  return sum;
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 dir;
@@ -72,6 +195,29 @@ void main() {
   int row = thetaRow(thetaOf(dir));
   int col = alphaColumn(alpha, aMax);
   if (col < 0) col = nAlpha() - 1;  // only by rounding at the very edge of the range
+#if !VS_LIGHT_TEXTURE
+  {
+    float binWidth = pMax / float(nPhi());
+    vec3 result;
+    if (parallelLight()) {
+      result = parallelTransmittanceIntegral(dist, alpha, col, row, binWidth, pMax) * lightIncident(eye) * sigmaS() *
+               phase(dot(u.lightDir.xyz, -dir));
+    } else {
+      result = pointInscatter(eye, dir, dist, alpha, col, row, binWidth, min(phiEnd, pMax));
+      // Beyond φ_max (a ray that ends past the visible geometry's range) the last bin's
+      // visibility holds, as in the per-bin sum.
+      if (phiEnd > pMax) {
+        uvec4 bits = texelFetch(voxels, ivec3(col, row, vsv.grid.w - 1), 0);
+        float D = gridDistance();
+        if ((bits.w >> 31) == 0u)
+          result += (phiEnd - pMax) * pointIntegrand(0.5 * (pMax + phiEnd), eye, dir, dist, alpha, D, D * max(sin(alpha), 0.0));
+      }
+      result *= sigmaS();
+    }
+    outInscatter = vec4(all(lessThan(abs(result), vec3(3.0e38))) ? result : vec3(0.0), 1.0);
+    return;
+  }
+#endif
   if (parallelLight()) {
     vec3 result = parallelInscatter(dir, dist, alpha, col, row, pMax / float(nPhi()));
     outInscatter = vec4(all(lessThan(abs(result), vec3(3.0e38))) ? result : vec3(0.0), 1.0);
