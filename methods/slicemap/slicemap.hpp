@@ -54,6 +54,15 @@ class SlicemapMethod : public Method {
   // The words of every column of one (face, class) slicemap as the last frame left them: res x res
   // columns of 4 x targets words, row by row (tests and figures).
   std::vector<uint32_t> readSlicemap(int face, int cls) const;
+  // Spot and directional lights: the first class's slices, one bit at a time, and the local
+  // slicing's near/far map. (Point lights keep cube-map arrays, which the bit view does not read.)
+  std::vector<DebugView> debugViews() const override {
+    std::vector<DebugView> views;
+    if (!slices_ || faces_ != 1) return views;
+    views.push_back({"slicemap bits (first class)", slices_.id(), DebugView::Kind::Bits, slicemap::kSlicesPerTarget * targets_});
+    if (nearFar_) views.push_back({"near/far map (near, -far)", nearFar_.id(), DebugView::Kind::Value, int(classes_.size()), 1, 2});
+    return views;
+  }
   int resolution() const { return resolution_; }
   int targets() const { return targets_; }
 
