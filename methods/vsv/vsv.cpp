@@ -180,6 +180,8 @@ std::vector<ParamSpec> VsvMethod::params() const {
           ParamSpec::integer("theta", 512, 8, 8192, "N_theta: rows (epipolar planes)"),
           ParamSpec::integer("phi", 256, 128, 1024, "N_phi: bits per column (light angle), 128 per render target").pow2(),
           ParamSpec::choice("vox", "sm", {"sm", "geom"}, "voxelizer: resample the shadow map or rasterize triangles"),
+          ParamSpec::flag("fused", true,
+                          "vox=sm: one compute pass writes the scanned words (no points, logic op or Scan VSV); 0 = the paper's points, then Scan VSV"),
           ParamSpec::flag("ranges", true, "dynamic angular ranges: alpha_max from the pixels, phi_max from visible geometry"),
           ParamSpec::integer("coarse", 4, 1, 64, "phi bins per light evaluation when the light is textured"),
           ParamSpec::flag("surface", false, "surface shadows from the VSV (Fig. 7) instead of the shared shadow map"),
@@ -197,6 +199,12 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   size_.nTheta = params.getInt("theta");
   size_.nPhi = params.getInt("phi");
   fromGeometry_ = params.getString("vox") == "geom";
+  // The fused voxelizer keeps a row's N_alpha x N_phi bits in shared memory; larger grids take the
+  // paper's path (points, then Scan VSV), as the row's passes show.
+  GLint sharedBytes = 0;
+  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &sharedBytes);
+  rowWords_ = size_.nAlpha * (size_.nPhi / 32);
+  fused_ = !fromGeometry_ && params.getBool("fused") && double(rowWords_) * 4.0 <= double(sharedBytes);
   dynamicRanges_ = params.getBool("ranges");
   coarse_ = params.getInt("coarse");
   surfaceShadows_ = params.getBool("surface");
@@ -226,6 +234,9 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
                                          {GL_GEOMETRY_SHADER, "methods/vsv/shaders/voxelize_geom.geom"},
                                          {GL_FRAGMENT_SHADER, "methods/vsv/shaders/voxelize_geom.frag"}},
                                         defines);
+  } else if (fused_) {
+    fusedProgram_ = gl::buildCompute("methods/vsv/shaders/voxelize_sm.comp",
+                                     defines + "#define VSV_ROW_WORDS " + std::to_string(rowWords_) + "\n");
   } else {
     fromSmProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "methods/vsv/shaders/voxelize_sm.vert"},
                                        {GL_FRAGMENT_SHADER, "methods/vsv/shaders/voxelize_sm.frag"}},
@@ -293,6 +304,16 @@ void VsvMethod::voxelizeFromShadowMap(const Frame& frame, PassTimer& timer) {
   endOrTargets();
 }
 
+// Fused: the scanned words straight from the shadow map, one workgroup per θ row.
+void VsvMethod::voxelizeFused(const Frame& frame, PassTimer& timer) {
+  auto scope = timer.scope(kVoxelizeSm);
+  (void)frame;
+  glUseProgram(fusedProgram_.id());
+  glBindImageTexture(0, voxels_->texture(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  glDispatchCompute(GLuint(size_.nTheta), 1, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
 void VsvMethod::voxelizeGeometry(const Frame& frame, PassTimer& timer) {
   auto scope = timer.scope(kVoxelizeGeometry);
   beginOrTargets(*voxels_);
@@ -330,11 +351,13 @@ void VsvMethod::render(const Frame& frame, PassTimer& timer) {
   frame.bindShared();
   updateGrid(frame);
   if (dynamicRanges_) computeRanges(frame, timer);
-  if (fromGeometry_)
-    voxelizeGeometry(frame, timer);
-  else
-    voxelizeFromShadowMap(frame, timer);
-  {
+  if (fused_) {
+    voxelizeFused(frame, timer);  // already scanned
+  } else {
+    if (fromGeometry_)
+      voxelizeGeometry(frame, timer);
+    else
+      voxelizeFromShadowMap(frame, timer);
     auto scope = timer.scope(kScan);
     scan_->run(*voxels_);
   }

@@ -112,11 +112,13 @@ class VsvMethod : public Method {
   void computeRanges(const Frame& frame, PassTimer& timer);
   void voxelizeFromShadowMap(const Frame& frame, PassTimer& timer);
   void voxelizeGeometry(const Frame& frame, PassTimer& timer);
+  void voxelizeFused(const Frame& frame, PassTimer& timer);
   void integrate(const Frame& frame, PassTimer& timer);
   void shadeSurfaces(const Frame& frame, PassTimer& timer);
 
   vsv::GridSize size_;
-  bool fromGeometry_ = false, dynamicRanges_ = true, surfaceShadows_ = false;
+  int rowWords_ = 0;  // fused voxelizer: shared words per theta row
+  bool fromGeometry_ = false, fused_ = true, dynamicRanges_ = true, surfaceShadows_ = false;
   int coarse_ = 4;
   glm::vec2 surfaceBias_{2.0f, 0.5f};  // towards the light, along the normal (voxels)
   glm::vec3 boundsLo_{0}, boundsHi_{0};
@@ -126,7 +128,7 @@ class VsvMethod : public Method {
   std::unique_ptr<vsv::Scan> scan_;
   gl::Buffer gridUbo_, rangesSsbo_;
   gl::VertexArray emptyVao_;
-  gl::Program rangesProgram_, fromSmProgram_, geometryProgram_, inscatterProgram_, surfaceProgram_;
+  gl::Program rangesProgram_, fromSmProgram_, fusedProgram_, geometryProgram_, inscatterProgram_, surfaceProgram_;
 };
 
 }  // namespace vs
