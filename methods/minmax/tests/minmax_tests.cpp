@@ -6,6 +6,7 @@
 #include "gl_test.hpp"
 #include "harness/metrics.hpp"
 #include "minmax/epipolar.hpp"
+#include "minmax/minmax.hpp"
 #include "minmax/traversal.hpp"
 
 namespace vs::testing {
@@ -244,6 +245,45 @@ TEST_F(MinmaxTest, HardCasesStayFiniteAndClose) {
     std::printf("%-32s nRMSE %.4f  max abs %.3g\n", c.name, a.nrmse, a.metrics.maxAbs);
     EXPECT_EQ(a.metrics.nonFinite, 0u) << c.name;
     EXPECT_LT(a.nrmse, 0.08) << c.name;
+  }
+}
+
+// Mipmap Construction builds each row's tree in blocks of 512 leaves and the levels above them in
+// a second pass: every node must be (min, max) of its children and the leaves the rectified row,
+// for rows shorter than, equal to and longer than a block.
+TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
+  Scene scene = loadScene("room");
+  RunOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.frames = 1;
+  options.warmup = 0;
+  for (int res : {256, 512, 2048}) {
+    Runner runner(scene, glLimits(), options);
+    MinmaxMethod method;
+    MethodRun run = runner.run(method, resolveSpec("minmax:slices=16:res=" + std::to_string(res), glLimits()).params);
+    ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+    std::vector<DebugView> views = method.debugViews();
+    ASSERT_EQ(views.size(), 2u);
+    GLint d = 0, slices = 0;
+    glGetTextureLevelParameteriv(views[0].texture, 0, GL_TEXTURE_WIDTH, &d);
+    glGetTextureLevelParameteriv(views[0].texture, 0, GL_TEXTURE_HEIGHT, &slices);
+    ASSERT_EQ(d, res);
+    std::vector<float> rectified(size_t(d) * size_t(slices)), tree(size_t(4 * d) * size_t(slices));
+    glGetTextureImage(views[0].texture, 0, GL_RED, GL_FLOAT, GLsizei(rectified.size() * 4), rectified.data());
+    glGetTextureImage(views[1].texture, 0, GL_RG, GL_FLOAT, GLsizei(tree.size() * 4), tree.data());
+    int wrong = 0;
+    for (int k = 0; k < slices; ++k) {
+      auto node = [&](int i) { return &tree[(size_t(k) * size_t(2 * d) + size_t(i)) * 2]; };
+      for (int i = 0; i < d; ++i) {
+        float leaf = rectified[size_t(k) * size_t(d) + size_t(i)];
+        wrong += node(d + i)[0] != leaf || node(d + i)[1] != leaf;
+      }
+      for (int i = 1; i < d; ++i)
+        wrong += node(i)[0] != std::min(node(2 * i)[0], node(2 * i + 1)[0]) ||
+                 node(i)[1] != std::max(node(2 * i)[1], node(2 * i + 1)[1]);
+    }
+    EXPECT_EQ(wrong, 0) << "res=" << res;
   }
 }
 
