@@ -248,9 +248,8 @@ TEST_F(MinmaxTest, HardCasesStayFiniteAndClose) {
   }
 }
 
-// Mipmap Construction builds each row's tree in blocks of 512 leaves and the levels above them in
-// a second pass: every node must be (min, max) of its children and the leaves the rectified row,
-// for rows shorter than, equal to and longer than a block.
+// Mipmap Construction: every node of each row's tree is (min, max) of its children and the leaves
+// are the rectified row, for rows of 256, 512 and 2048 texels.
 TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
   Scene scene = loadScene("room");
   RunOptions options;
