@@ -152,12 +152,13 @@ double scatterMs(const MethodRun& r) {
 
 // Equal quality against brute force: ray marching (the registered reference method) with uniform
 // or equiangular steps, at the row's shadow-map size, bisected on its step count to reach the row's
-// L_s RMSE against the reference; and its L_s RMSE at the row's scattering time. Each baseline
+// L_s relMSE against the reference (RMSE would be decided by the few pixels next to an on-screen
+// light, where uniform steps are worst); and its L_s RMSE at the row's scattering time. Each baseline
 // point is measured once per run (memoised) with min(frames, 2) frames after one warm-up frame.
 class EqualQuality {
  public:
   struct Point {
-    double lsRmse = 0, scatterMs = 0;
+    double lsRmse = 0, lsRelmse = 0, scatterMs = 0;
     bool ok = false;
   };
   struct Match {
@@ -195,31 +196,33 @@ class EqualQuality {
     Point p;
     if (r.status == RunStatus::Success) {
       p.ok = true;
-      p.lsRmse = compareImages(r.inscatter, reference_.inscatter).rmse;
+      ErrorMetrics e = compareImages(r.inscatter, reference_.inscatter);
+      p.lsRmse = e.rmse;
+      p.lsRelmse = e.relmse;
       p.scatterMs = scatterMs(r);
     }
     points_[key] = p;
     return p;
   }
 
-  // Smallest step count whose L_s RMSE is at most `target` (bisection on [1, kMaxSteps], the error
+  // Smallest step count whose L_s relMSE is at most `target` (bisection on [1, kMaxSteps], the error
   // taken as non-increasing in the step count), and the baseline's error at `rowMs`.
   Match match(const std::string& sampling, int sm, double target, double rowMs) {
     Match m;
     Point top = at(sampling, sm, kMaxSteps);
     if (!top.ok) return m;
     m.any = true;
-    if (top.lsRmse > target) {
+    if (top.lsRelmse > target) {
       m.steps = kMaxSteps;  // not reached: the time is a lower bound
       m.ms = top.scatterMs;
     } else {
       int lo = 1, hi = kMaxSteps;  // err(hi) <= target
-      if (at(sampling, sm, lo).ok && at(sampling, sm, lo).lsRmse <= target) hi = lo;
+      if (at(sampling, sm, lo).ok && at(sampling, sm, lo).lsRelmse <= target) hi = lo;
       while (hi - lo > 1 && hi > 1) {
         int mid = int(std::lround(std::sqrt(double(lo) * double(hi))));  // bisection in log(steps)
         mid = std::clamp(mid, lo + 1, hi - 1);
         Point p = at(sampling, sm, mid);
-        if (p.ok && p.lsRmse <= target) hi = mid;
+        if (p.ok && p.lsRelmse <= target) hi = mid;
         else lo = mid;
       }
       m.steps = hi;
@@ -524,7 +527,7 @@ void addEqualQuality(ResultRow& row, const Measured& m, EqualQuality& eq, const 
   bool pointLike = effects.light == LightType::Point || effects.light == LightType::Spot;
   if (pointLike) samplings.push_back("equiangular");
   for (const std::string& sampling : samplings) {
-    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, m.lsErr.rmse, ms);
+    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, m.lsErr.relmse, ms);
     if (!match.any) continue;
     // A baseline that never reaches the row's error within kMaxSteps gives a lower bound: ">=".
     row.set("eq_" + sampling + "_steps", (match.reached ? "" : ">=") + std::to_string(match.steps));
