@@ -315,7 +315,7 @@ void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodR
         std::string spec = info.name + (rung.empty() ? "" : ":" + rung);
         specs.push_back(spec);
         // A method that cannot render the scene gets one row saying why, not one per rung.
-        if (!method->unsupportedReason(plan.scene, resolveSpec(spec, limits, registry).params).empty()) break;
+        if (!unsupportedReason(plan.scene, *method, resolveSpec(spec, limits, registry).params).empty()) break;
       }
     }
   } else {

@@ -17,6 +17,7 @@ Effects deriveEffects(const Scene& scene) {
   e.lightTexture = scene.light.hasTexture();
   e.anisotropic = scene.medium.phase == Phase::HenyeyGreenstein && scene.medium.g != 0.0f;
   e.areaLight = isAreaLight(scene.light.type);
+  e.cosineLobe = scene.light.type == LightType::Point && scene.light.cosineLobe;
   for (const Mesh& m : scene.meshes) {
     if (!m.isOpaque()) e.semiTransparent = true;
     if (!m.isOpaque() && m.hasTransmittanceColor()) e.coloredShadows = true;
@@ -42,6 +43,7 @@ std::string Effects::describe() const {
                     {semiTransparent, "semi-transparent"},
                     {coloredShadows, "colored-shadows"},
                     {areaLight, "area-light"},
+                    {cosineLobe, "cosine-lobe"},
                     {true, lightTypeName(light)}},
                    "+");
 }

@@ -14,6 +14,7 @@ struct Effects {
   bool lightTexture = false;     // the light carries a texture: light-texture work runs
   bool anisotropic = false;      // Henyey-Greenstein phase with g != 0
   bool areaLight = false;        // rect or disk light: integrated over the light's surface
+  bool cosineLobe = false;       // point light with cosine emission (an area light's virtual point light)
   bool volumeData = false;       // density grids: heterogeneous sigma_t, 3D textures
   bool semiTransparent = false;  // occluders with opacity < 1: light transmittance through layers
   bool coloredShadows = false;   // semi-transparent occluders with a transmittance colour

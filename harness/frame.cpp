@@ -330,12 +330,13 @@ SharedPasses::SharedPasses(const Scene& scene, const SceneGpu& geometry, const E
   }
 }
 
-void SharedPasses::buildShadowMap(int size) {
-  ShadowMap& s = shadow_;
-  s = ShadowMap{};
+static LightType shadowMapType(const Light& light) {
   // Area lights share a cube map around their centre (the surface term's approximation).
-  s.type = isAreaLight(scene_.light.type) ? LightType::Point : scene_.light.type;
-  s.size = size;
+  return isAreaLight(light.type) ? LightType::Point : light.type;
+}
+
+void SharedPasses::fitShadowProjection() {
+  ShadowMap& s = shadow_;
   const Light& light = scene_.light;
   glm::vec3 lo = geometry_.boundsLo, hi = geometry_.boundsHi;
   glm::vec3 center = 0.5f * (lo + hi);
@@ -349,12 +350,37 @@ void SharedPasses::buildShadowMap(int size) {
   }
   s.farZ = std::max(farthest * 1.01f, 1e-3f);
   s.nearZ = std::max(s.farZ * 1e-4f, 1e-5f);
+  if (s.type == LightType::Point) {
+    for (int f = 0; f < 6; ++f) s.faceViewProj[f] = cubeFaceViewProj(light.position, f, s.nearZ, s.farZ);
+    return;
+  }
+  glm::mat4 view, proj;
+  glm::vec3 dir = safeDirection(light.direction, {0, -1, 0});
+  if (s.type == LightType::Directional) {
+    view = glm::lookAt(center - dir * (2.0f * radius), center, safeUp(dir, {0, 1, 0}));
+    proj = glm::ortho(-radius, radius, -radius, radius, 0.5f * radius, 3.5f * radius);
+    s.orthoHalfExtent = radius;
+    s.nearZ = 0.5f * radius;
+    s.farZ = 3.5f * radius;
+  } else {
+    float fov = std::min(2.0f * light.spotOuterDeg, 170.0f);
+    view = glm::lookAt(light.position, light.position + dir, safeUp(dir, {0, 1, 0}));
+    proj = glm::perspective(glm::radians(fov), 1.0f, s.nearZ, s.farZ);
+  }
+  s.viewProj = proj * view;
+}
+
+void SharedPasses::buildShadowMap(int size) {
+  ShadowMap& s = shadow_;
+  s = ShadowMap{};
+  s.type = shadowMapType(scene_.light);
+  s.size = size;
+  fitShadowProjection();
 
   GLuint id = 0;
   if (s.type == LightType::Point) {
     s.depth = gl::createTextureCube(GL_DEPTH_COMPONENT32F, size);
     for (int f = 0; f < 6; ++f) {
-      s.faceViewProj[f] = cubeFaceViewProj(light.position, f, s.nearZ, s.farZ);
       glCreateFramebuffers(1, &id);
       s.fbos[f] = gl::Framebuffer(id);
       glNamedFramebufferTextureLayer(id, GL_DEPTH_ATTACHMENT, s.depth.id(), 0, f);
@@ -364,21 +390,6 @@ void SharedPasses::buildShadowMap(int size) {
     }
   } else {
     s.depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, size, size);
-    glm::mat4 view, proj;
-    if (s.type == LightType::Directional) {
-      glm::vec3 dir = safeDirection(light.direction, {0, -1, 0});
-      view = glm::lookAt(center - dir * (2.0f * radius), center, safeUp(dir, {0, 1, 0}));
-      proj = glm::ortho(-radius, radius, -radius, radius, 0.5f * radius, 3.5f * radius);
-      s.orthoHalfExtent = radius;
-      s.nearZ = 0.5f * radius;
-      s.farZ = 3.5f * radius;
-    } else {
-      glm::vec3 dir = safeDirection(light.direction, {0, -1, 0});
-      float fov = std::min(2.0f * light.spotOuterDeg, 170.0f);
-      view = glm::lookAt(light.position, light.position + dir, safeUp(dir, {0, 1, 0}));
-      proj = glm::perspective(glm::radians(fov), 1.0f, s.nearZ, s.farZ);
-    }
-    s.viewProj = proj * view;
     glCreateFramebuffers(1, &id);
     s.fbos[0] = gl::Framebuffer(id);
     glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, s.depth.id(), 0);
@@ -408,7 +419,9 @@ void SharedPasses::setShadowMapSize(int size) {
 }
 
 void SharedPasses::lightMoved() {
-  if (shadow_.size > 0) buildShadowMap(shadow_.size);
+  if (shadow_.size <= 0) return;
+  if (shadow_.type == shadowMapType(scene_.light)) fitShadowProjection();
+  else buildShadowMap(shadow_.size);
 }
 
 void SharedPasses::updateUniforms(uint32_t frameIndex, uint32_t seed) {
@@ -427,10 +440,13 @@ void SharedPasses::updateUniforms(uint32_t frameIndex, uint32_t seed) {
   glm::vec3 forward = safeDirection(cam.target - cam.position, {0, 0, -1});
   f.cameraForward = glm::vec4(forward, std::tan(glm::radians(cam.fovYDeg) * 0.5f));
   f.lightPos = glm::vec4(light.position, float(lightTypeCode(light.type)));
-  // Area lights: w = two-sided flag, and the colour carries radiance x area (the on-axis intensity).
+  // Area lights: the colour carries radiance x area (the on-axis intensity) and the emission is a
+  // cosine lobe about the normal, as for a cosine-lobed point light (a virtual point light).
   bool area = isAreaLight(light.type);
+  bool lobe = area || (light.type == LightType::Point && light.cosineLobe);
   f.lightDir = glm::vec4(safeDirection(light.direction, {0, -1, 0}),
                          area ? (light.twoSided ? 1.0f : 0.0f) : std::cos(glm::radians(light.spotOuterDeg)));
+  f.lightEmission = glm::vec4(lobe ? 1.0f : 0.0f, light.twoSided ? 1.0f : 0.0f, 0.0f, 0.0f);
   f.lightColor = glm::vec4(light.color * light.intensity * (area ? light.area() : 1.0f),
                            std::cos(glm::radians(light.spotInnerDeg)));
   f.shadowParams = glm::vec4(shadow_.nearZ, shadow_.farZ, float(shadow_.size), effects_.lightTexture ? 1.0f : 0.0f);
@@ -465,8 +481,8 @@ Frame SharedPasses::frame() const {
                transmittance_.get(), shadowCasters_};
 }
 
-void SharedPasses::renderShadowMap(PassTimer& timer) {
-  auto scope = timer.scope("Shadow Map");
+void SharedPasses::renderShadowMap(PassTimer& timer, const char* pass) {
+  auto scope = timer.scope(pass);
   const ShadowMap& s = shadow_;
   glUseProgram(shadowProgram_.id());
   glViewport(0, 0, s.size, s.size);

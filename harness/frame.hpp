@@ -103,6 +103,7 @@ struct FrameUniforms {
   glm::vec4 medium;          // sigma_s, sigma_a, sigma_t, g
   glm::vec4 cameraClip;      // near, far, phase (0 iso, 1 HG), directional ortho half-extent
   glm::ivec4 viewport;       // width, height, frame index, seed
+  glm::vec4 lightEmission;   // x: 1 cosine lobe about lightDir (area lights, virtual point lights); y: two-sided
 };
 
 // Vertex attributes: 0 position, 1 normal, 2 albedo, 3 transmittance colour, 4 texture coordinate,
@@ -174,10 +175,11 @@ class SharedPasses {
   SharedPasses(const Scene& scene, const SceneGpu& geometry, const Effects& effects, int width, int height);
   // Rebuilds the shadow map if `size` changed.
   void setShadowMapSize(int size);
-  // Rebuilds the shadow map's projections for the scene's light after it moved (the viewer).
+  // Refits the shadow map's projections to the scene's light after it moved (the viewer, the
+  // per-VPL wrapper); reallocates only when the kind of map changes.
   void lightMoved();
   void updateUniforms(uint32_t frameIndex, uint32_t seed);
-  void renderShadowMap(PassTimer& timer);   // "Shadow Map"
+  void renderShadowMap(PassTimer& timer, const char* pass = "Shadow Map");
   void setShadowCasters(bool on) { shadowCasters_ = on; }
   void renderGBuffer(PassTimer& timer);     // "G Buffer"
   void renderDirect(PassTimer& timer);      // "Direct Lighting"
@@ -193,6 +195,7 @@ class SharedPasses {
 
  private:
   void buildShadowMap(int size);
+  void fitShadowProjection();  // near/far and view-projections of shadow_ for the scene's light
   void drawFullscreen(GLuint fbo, GLuint program) const;  // shared bindings + one full-screen triangle
   Image readTexture(GLuint texture) const;
 

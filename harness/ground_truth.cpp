@@ -198,7 +198,8 @@ struct LightModel {
     double r2 = std::max(glm::dot(d, d), 1e-12);
     double r = std::sqrt(r2);
     dvec3 L = radiance * (std::exp(-sigmaT * r) / r2);
-    if (isAreaLight(scene.light.type)) L *= areaEmission(d / r);
+    bool lobe = isAreaLight(scene.light.type) || (scene.light.type == LightType::Point && scene.light.cosineLobe);
+    if (lobe) L *= areaEmission(d / r);
     if (scene.light.type == LightType::Spot) {
       double c = glm::dot(d / r, direction);
       L *= std::clamp((c - cosOuter) / std::max(cosInner - cosOuter, 1e-6), 0.0, 1.0);

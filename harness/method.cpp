@@ -7,6 +7,7 @@ std::string Capabilities::describe() const {
                     {spotLight, "spot"},
                     {directionalLight, "directional"},
                     {areaLight, "area"},
+                    {cosineLobe, "cosine-lobed point"},
                     {texturedLight, "textured light"},
                     {homogeneousMedium, "homogeneous medium"},
                     {henyeyGreenstein, "Henyey-Greenstein"},
@@ -33,6 +34,7 @@ std::string missingCapability(const Capabilities& c, const Effects& e) {
       if (!c.areaLight) return "area lights are not supported";
       break;
   }
+  if (e.cosineLobe && !c.cosineLobe) return "cosine-lobed point lights are not supported";
   if (e.lightTexture && !c.texturedLight) return "textured lights are not supported";
   if (e.anisotropic && !c.henyeyGreenstein) return "the Henyey-Greenstein phase function is not supported";
   if (e.volumeData && !c.volumeData) return "volume data is not supported";
@@ -47,7 +49,9 @@ std::string Method::unsupportedReason(const Scene& scene, const ParamValues&) co
 
 std::vector<ParamSpec> sharedParams(int maxShadowMapSize) {
   return {ParamSpec::integer("sm", 1024, 64, maxShadowMapSize, "shadow-map resolution (per cube face for point lights)")
-              .pow2()};
+              .pow2(),
+          ParamSpec::integer("vpls", 0, 0, kMaxVirtualPointLights,
+                             "area lights: run the method once per virtual point light and sum L_s (0: off)")};
 }
 
 std::vector<ParamSpec> allParams(const Method& method, int maxShadowMapSize) {

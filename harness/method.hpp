@@ -16,6 +16,7 @@ namespace vs {
 // What a method supports, declared once; missingCapability() matches it against a scene's Effects.
 struct Capabilities {
   bool pointLight = false, spotLight = false, directionalLight = false, areaLight = false;
+  bool cosineLobe = false;  // point lights with cosine emission: the per-VPL wrapper's lights
   bool texturedLight = false;
   bool homogeneousMedium = true;
   bool henyeyGreenstein = false;
@@ -79,6 +80,10 @@ class Method {
   // times the shared shadow map (Direct Lighting then sees V = 1 and the method must re-shade
   // L_surf with its own surface shadows, Frame::directFbo).
   virtual bool needsSharedShadowMap() const { return true; }
+  // true: setup() fits the method's structures to the light's position, so render() is only right
+  // for the light it was set up with. Such a method cannot run behind the per-VPL wrapper, which
+  // moves the light between renders (harness/vpl.hpp).
+  virtual bool lightFixedAtSetup() const { return false; }
   // Where the method departs from the model (README "What is computed"), one short phrase each,
   // e.g. "homogeneous extinction along light rays"; recorded in every result row.
   virtual std::vector<std::string> approximations() const { return {}; }
@@ -110,7 +115,9 @@ struct MethodInfo {
 // registry in (methods/registry.hpp defines the project's).
 using MethodRegistry = std::vector<MethodInfo>;
 
-// Shared parameters every method accepts, appended to its own.
+// Shared parameters every method accepts, appended to its own: `sm` and `vpls` (the per-VPL
+// wrapper, harness/vpl.hpp).
+constexpr int kMaxVirtualPointLights = 4096;
 std::vector<ParamSpec> sharedParams(int maxShadowMapSize);
 std::vector<ParamSpec> allParams(const Method& method, int maxShadowMapSize);
 std::unique_ptr<Method> createMethod(const MethodRegistry& registry, const std::string& name);  // UsageError if unknown

@@ -9,6 +9,7 @@
 
 #include "results.hpp"
 #include "scenes/content_hash.hpp"
+#include "vpl.hpp"
 
 namespace vs {
 
@@ -33,6 +34,70 @@ Runner::Runner(const Scene& scene, const gl::Limits& limits, RunOptions options)
   shared_->setShadowCasters(options_.shadowCasters);
 }
 
+// The per-VPL wrapper's state: a copy of the scene whose light is one virtual point light at a
+// time, its own shared passes over that copy, and the sum of L_s over the VPLs.
+struct Runner::VplWrapper {
+  Scene scene;
+  Effects effects;
+  Light centre;              // the whole area light as one cosine-lobed point: the surface term
+  std::vector<Light> lights;  // one per VPL
+  std::unique_ptr<SharedPasses> shared;
+  gl::Texture sum, direct;
+  gl::Framebuffer sumFbo;
+  gl::Program accumulate;
+
+  VplWrapper(const Scene& original, const SceneGpu& geometry, int count, const RunOptions& options)
+      : scene(original) {
+    const Light& area = original.light;
+    centre = virtualPointLight(area, area.position, 1);
+    for (const glm::vec3& p : virtualPointLightPositions(area, count)) lights.push_back(virtualPointLight(area, p, count));
+    scene.light = centre;
+    effects = deriveEffects(scene);
+    shared = std::make_unique<SharedPasses>(scene, geometry, effects, options.width, options.height);
+    shared->setShadowCasters(options.shadowCasters);
+    sum = gl::createTexture2D(GL_RGBA32F, options.width, options.height);
+    direct = gl::createTexture2D(GL_RGBA32F, options.width, options.height);
+    sumFbo = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, sum.id()}});
+    gl::checkFramebuffer(sumFbo.id(), "VPL sum");
+    accumulate = gl::buildFullscreen("harness/shaders/vpl_accumulate.frag");
+  }
+  void useLight(const Light& light, uint32_t frameIndex, uint32_t seed) {
+    scene.light = light;
+    shared->lightMoved();
+    shared->updateUniforms(frameIndex, seed);
+  }
+};
+
+Runner::~Runner() = default;
+
+SharedPasses& Runner::shared() { return vpl_ ? *vpl_->shared : *shared_; }
+
+std::string Runner::unsupportedReason(const Method& method, const ParamValues& params) const {
+  return vs::unsupportedReason(scene_, method, params);
+}
+
+std::string unsupportedReason(const Scene& scene, const Method& method, const ParamValues& params) {
+  const Effects effects = deriveEffects(scene);
+  int vpls = params.getInt("vpls");
+  if (vpls == 0) {
+    std::string reason = method.unsupportedReason(scene, params);
+    if (!reason.empty() && effects.areaLight) {
+      Scene asVpls = scene;
+      asVpls.light = virtualPointLight(scene.light, scene.light.position, 1);
+      if (!method.lightFixedAtSetup() && method.unsupportedReason(asVpls, params).empty())
+        reason += " (vpls=N runs it once per virtual point light)";
+    }
+    return reason;
+  }
+  if (!effects.areaLight) return "vpls needs an area light; the scene's light is a " +
+                                  std::string(lightTypeName(scene.light.type)) + " light";
+  if (method.lightFixedAtSetup())
+    return method.name() + " fits its setup to one light position, so it cannot run once per virtual point light";
+  Scene asVpls = scene;
+  asVpls.light = virtualPointLight(scene.light, scene.light.position, vpls);
+  return method.unsupportedReason(asVpls, params);
+}
+
 static size_t countNonFinite(const Image& img) {
   size_t n = 0;
   for (float v : img.rgb) n += std::isfinite(v) ? 0 : 1;
@@ -41,12 +106,22 @@ static size_t countNonFinite(const Image& img) {
 
 double Runner::setUp(Method& method, const ParamValues& params) {
   int shadowMapSize = params.getInt("sm");
-  shared_->setShadowMapSize(shadowMapSize);
-  shared_->updateUniforms(0, options_.seed);
+  int vpls = params.getInt("vpls");
+  // The wrapper is rebuilt at every set-up: the scene's light may have moved (the viewer).
+  vpl_.reset();
+  if (vpls > 0) {
+    if (!effects_.areaLight) throw std::runtime_error("vpls needs an area light");
+    vpl_ = std::make_unique<VplWrapper>(scene_, *geometry_, vpls, options_);
+  }
+  shared_->lightMoved();
+  const Scene& scene = vpl_ ? vpl_->scene : scene_;
+  const Effects& effects = vpl_ ? vpl_->effects : effects_;
+  shared().setShadowMapSize(shadowMapSize);
+  shared().updateUniforms(0, options_.seed);
   double setupMs = 0.0;
   // Passes a scene does not call for are not built: without scattering the method is not set up.
-  if (effects_.scattering) {
-    SetupContext context{scene_, *geometry_, effects_, options_.width, options_.height, shadowMapSize, limits_};
+  if (effects.scattering) {
+    SetupContext context{scene, *geometry_, effects, options_.width, options_.height, shadowMapSize, limits_};
     glFinish();
     auto start = std::chrono::steady_clock::now();
     method.setup(context, params);
@@ -55,13 +130,14 @@ double Runner::setUp(Method& method, const ParamValues& params) {
   }
   // A method with its own light-space structure does not pay for the shared shadow map: it is
   // cleared once (V = 1) and not rendered.
-  sharedShadowMap_ = !effects_.scattering || method.needsSharedShadowMap();
-  if (!sharedShadowMap_) shared_->clearShadowMap();
+  sharedShadowMap_ = !effects.scattering || method.needsSharedShadowMap();
+  if (!sharedShadowMap_) shared().clearShadowMap();
   gl::checkErrors("method setup");
   return setupMs;
 }
 
 void Runner::renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record) {
+  if (vpl_) return renderFrameVpl(method, timer, frameIndex, record);
   shared_->updateUniforms(frameIndex, options_.seed);
   gl::resetPipelineState();
   timer.beginFrame(record);
@@ -78,13 +154,67 @@ void Runner::renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, 
   timer.endFrame();
 }
 
+// One frame behind the per-VPL wrapper. Surfaces are shaded once, with the area light as the
+// shared passes always see it (a cosine-lobed point light at its centre); then per VPL its shadow
+// map and the method's passes, and L_s is added up. The method's own surface shadows are not
+// summed over VPLs: the shared Direct Lighting is restored after the loop.
+void Runner::renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record) {
+  VplWrapper& w = *vpl_;
+  SharedPasses& shared = *w.shared;
+  w.useLight(w.centre, frameIndex, options_.seed);
+  gl::resetPipelineState();
+  timer.beginFrame(record);
+  if (sharedShadowMap_) shared.renderShadowMap(timer);
+  shared.renderGBuffer(timer);
+  shared.renderDirect(timer);
+  if (effects_.scattering) {
+    Frame frame = shared.frame();
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    glClearNamedFramebufferfv(w.sumFbo.id(), GL_COLOR, 0, zero);
+    glCopyImageSubData(frame.direct, GL_TEXTURE_2D, 0, 0, 0, 0, w.direct.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                       options_.width, options_.height, 1);
+    for (const Light& light : w.lights) {
+      w.useLight(light, frameIndex, options_.seed);
+      if (sharedShadowMap_) shared.renderShadowMap(timer, "VPL Shadow Maps");
+      method.render(shared.frame(), timer);
+      gl::resetPipelineState();
+      auto scope = timer.scope("VPL Accumulation");
+      // rgb: sum over VPLs; alpha: the camera ray's volume transmittance, the same for every VPL.
+      glBindFramebuffer(GL_FRAMEBUFFER, w.sumFbo.id());
+      glViewport(0, 0, options_.width, options_.height);
+      glEnable(GL_BLEND);
+      glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ZERO);
+      glUseProgram(w.accumulate.id());
+      glBindTextureUnit(bind::kInscatter, frame.inscatter);
+      gl::drawFullscreenTriangle();
+      glDisable(GL_BLEND);
+    }
+    {
+      auto scope = timer.scope("VPL Accumulation");
+      glCopyImageSubData(w.sum.id(), GL_TEXTURE_2D, 0, 0, 0, 0, frame.inscatter, GL_TEXTURE_2D, 0, 0, 0, 0,
+                         options_.width, options_.height, 1);
+      glCopyImageSubData(w.direct.id(), GL_TEXTURE_2D, 0, 0, 0, 0, frame.direct, GL_TEXTURE_2D, 0, 0, 0, 0,
+                         options_.width, options_.height, 1);
+    }
+    w.useLight(w.centre, frameIndex, options_.seed);
+    gl::resetPipelineState();
+  } else {
+    shared.clearInscatter();
+  }
+  shared.composite(timer);
+  timer.endFrame();
+}
+
 MethodRun Runner::run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress) {
   MethodRun result;
   result.method = method.name();
   result.params = params.canonical();
   result.shadowMapSize = params.getInt("sm");
   result.approximations = method.approximations();
-  std::string unsupported = method.unsupportedReason(scene_, params);
+  if (params.getInt("vpls") > 0)
+    result.approximations.push_back("area light as " + std::to_string(params.getInt("vpls")) +
+                                    " virtual point lights (per-VPL wrapper)");
+  std::string unsupported = unsupportedReason(method, params);
   if (!unsupported.empty()) {
     result.status = RunStatus::Unsupported;
     result.reason = unsupported;
@@ -111,8 +241,8 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
       }
     }
     result.stats = method.stats(result.passStats);
-    result.inscatter = shared_->readInscatter();
-    result.final = shared_->readFinal();
+    result.inscatter = shared().readInscatter();
+    result.final = shared().readFinal();
     gl::checkErrors("readback");
     if (gl::debugErrorCount() > 0) {
       result.status = RunStatus::Failure;

@@ -50,17 +50,23 @@ struct MethodRun {
 class Runner {
  public:
   Runner(const Scene& scene, const gl::Limits& limits, RunOptions options);
+  ~Runner();
   // Never throws for a method's own failure: exceptions, GL errors and non-finite pixels become a
   // Failure row with the reason; an unsupported scene becomes an Unsupported row.
   // progress(frame, total) is called after each frame.
   MethodRun run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress = {});
+  // Why `method` cannot run this scene with `params` (empty if it can). With vpls = N > 0 the
+  // method runs behind the per-VPL wrapper: once per virtual point light of the scene's area
+  // light, L_s summed (passes "VPL Shadow Maps" and "VPL Accumulation" are the wrapper's).
+  std::string unsupportedReason(const Method& method, const ParamValues& params) const;
   // run() one frame at a time (the viewer). setUp sizes the shadow map and sets the method up
   // (wall-clock ms; throws on failure); renderFrame runs one frame of the pipeline, every pass
   // timed (recorded when `record`). The scene's camera and light are read every frame: after moving the light call
   // shared().lightMoved() and set the method up again.
   double setUp(Method& method, const ParamValues& params);
   void renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record = true);
-  SharedPasses& shared() { return *shared_; }
+  // The shared passes of the method set up last (the per-VPL wrapper has its own).
+  SharedPasses& shared();
   const Effects& effects() const { return effects_; }
   const RunOptions& options() const { return options_; }
 
@@ -72,7 +78,13 @@ class Runner {
   std::unique_ptr<SceneGpu> geometry_;
   std::unique_ptr<SharedPasses> shared_;
   bool sharedShadowMap_ = true;  // of the method set up last
+  struct VplWrapper;
+  std::unique_ptr<VplWrapper> vpl_;  // set when the method set up last runs per VPL
+  void renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record);
 };
+
+// Runner::unsupportedReason without a Runner.
+std::string unsupportedReason(const Scene& scene, const Method& method, const ParamValues& params);
 
 // Validates a method spec against the registry and the GL limits; throws UsageError.
 struct ResolvedSpec {

@@ -66,11 +66,28 @@ void PassTimer::record(const std::string& name, double ms) {
   samples_[name].push_back(ms);
 }
 
+// A pass that runs several times in a frame (once per virtual point light, per cube face) counts
+// once per frame, with the sum of its runs.
+void PassTimer::addToFrame(const std::string& name, double ms) {
+  for (auto& [pass, total] : frameTotals_)
+    if (pass == name) {
+      total += ms;
+      return;
+    }
+  frameTotals_.emplace_back(name, ms);
+}
+
+void PassTimer::flushFrame() {
+  for (const auto& [pass, total] : frameTotals_) record(pass, total);
+  frameTotals_.clear();
+}
+
 void PassTimer::beginFrame(bool record) {
   if (inFrame_) throw std::logic_error("PassTimer::beginFrame inside a frame");
   inFrame_ = true;
   recording_ = record;
   current_ = {};
+  frameTotals_.clear();
   if (strategy_ == TimerStrategy::WallClock) {
     glFinish();
     frameStart_ = Clock::now();
@@ -87,7 +104,10 @@ void PassTimer::endFrame() {
   inFrame_ = false;
   if (strategy_ == TimerStrategy::WallClock) {
     glFinish();
-    if (recording_) record(kFrame, msSince(frameStart_));
+    if (recording_) {
+      flushFrame();
+      record(kFrame, msSince(frameStart_));
+    }
     return;
   }
   current_.passes[0].end = acquireQuery();
@@ -122,7 +142,7 @@ void PassTimer::end(const std::string& name) {
     glFinish();
     double ms = msSince(wallStarts_.back());
     wallStarts_.pop_back();
-    if (recording_ && inFrame_) record(name, ms);
+    if (recording_ && inFrame_) addToFrame(name, ms);
     return;
   }
   // The innermost unfinished pass of this name.
@@ -140,10 +160,11 @@ void PassTimer::resolve(bool wait) {
       GLuint64 t0 = 0, t1 = 0;
       glGetQueryObjectui64v(p.begin, GL_QUERY_RESULT, &t0);
       glGetQueryObjectui64v(p.end, GL_QUERY_RESULT, &t1);
-      record(p.name, t1 > t0 ? double(t1 - t0) * 1e-6 : 0.0);
+      addToFrame(p.name, t1 > t0 ? double(t1 - t0) * 1e-6 : 0.0);
       freeQueries_.push_back(p.begin);
       freeQueries_.push_back(p.end);
     }
+    flushFrame();
     ring_.pop_front();
   }
 }

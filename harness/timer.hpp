@@ -58,7 +58,7 @@ class PassTimer {
   void endFrame();
   void finish();  // reads every outstanding query
 
-  // Samples per pass name (ms), in first-seen order; "Frame" holds whole frames.
+  // Samples per pass name (ms), one per frame, in first-seen order; "Frame" holds whole frames.
   const std::vector<std::string>& passOrder() const { return order_; }
   const std::map<std::string, std::vector<double>>& samples() const { return samples_; }
   TimerStrategy strategy() const { return strategy_; }
@@ -68,6 +68,8 @@ class PassTimer {
   void begin(const std::string& name);
   void end(const std::string& name);
   void record(const std::string& name, double ms);
+  void addToFrame(const std::string& name, double ms);
+  void flushFrame();
   GLuint acquireQuery();
   void resolve(bool wait);
 
@@ -86,6 +88,7 @@ class PassTimer {
   std::vector<std::string> open_;
   std::vector<std::string> order_;
   std::map<std::string, std::vector<double>> samples_;
+  std::vector<std::pair<std::string, double>> frameTotals_;  // the frame being recorded or resolved
   std::vector<GLuint> freeQueries_, allQueries_;
   PendingFrame current_;
   std::deque<PendingFrame> ring_;

@@ -519,7 +519,7 @@ class Viewer {
     frameIndex_ = 0;
     Slot& s = slot();
     auto method = createMethod(registry_, s.name);
-    unsupported_ = method->unsupportedReason(scene_, s.params);
+    unsupported_ = runner_->unsupportedReason(*method, s.params);
     if (!unsupported_.empty()) return;
     gl::resetDebugErrorCount();
     try {

@@ -1,11 +1,13 @@
 // Area lights end to end: a disk light on its axis against a 2D quadrature oracle, a tiny light
-// against the exact ground truth, and the reference against the ground truth on `arealight`.
+// against the exact ground truth, the reference against the ground truth on `arealight`, and the
+// per-VPL wrapper (shared parameter vpls) around the point-light methods.
 #include <cmath>
 #include <cstdio>
 
 #include "gl_test.hpp"
 #include "harness/ground_truth.hpp"
 #include "harness/metrics.hpp"
+#include "harness/vpl.hpp"
 
 namespace vs::testing {
 namespace {
@@ -131,6 +133,124 @@ TEST_F(AreaLightTest, MethodsWithoutAreaLightsAreUnsupported) {
       EXPECT_NE(reason.find("area lights"), std::string::npos) << info.name << ": " << reason;
     }
   }
+}
+
+// ---- the per-VPL wrapper
+
+bool mentionsVpls(const MethodRun& run) {
+  for (const auto& a : run.approximations)
+    if (a.find("virtual point lights (per-VPL wrapper)") != std::string::npos) return true;
+  return false;
+}
+
+TEST_F(AreaLightTest, PerVplRaymarchEqualsRaymarchWithTheSameLightSamples) {
+  // raymarch samples the light at the same Hammersley points itself, so wrapping it must give the
+  // same L_s: what the wrapper adds (lobed point lights, per-VPL shadow maps, the sum) is exact.
+  const int W = 64, H = 48;
+  Scene scene = loadScene("arealight");
+  MethodRun native = renderScene(scene, "raymarch:steps=128:light_samples=8:light_sm=256", W, H);
+  MethodRun wrapped = renderScene(scene, "raymarch:steps=128:vpls=8:sm=256", W, H);
+  ASSERT_EQ(native.status, RunStatus::Success) << native.reason;
+  ASSERT_EQ(wrapped.status, RunStatus::Success) << wrapped.reason;
+  ErrorMetrics ls = compareImages(wrapped.inscatter, native.inscatter);
+  std::printf("raymarch per VPL vs its own 8 light samples: L_s relMSE %.2e max %.2e\n", ls.relmse, ls.maxAbs);
+  EXPECT_LT(ls.relmse, 1e-5);
+  EXPECT_TRUE(mentionsVpls(wrapped));
+  EXPECT_FALSE(mentionsVpls(native));
+  // The wrapper's passes, each one sample per frame (the sum over its VPLs).
+  for (const char* pass : {"VPL Shadow Maps", "Ray Marching", "VPL Accumulation"}) {
+    ASSERT_TRUE(wrapped.passStats.count(pass)) << pass;
+    EXPECT_EQ(wrapped.passStats.at(pass).samples, 1u) << pass;
+  }
+}
+
+TEST_F(AreaLightTest, PointLightMethodsPerVplMatchRaymarchOnTheSameVpls) {
+  const int W = 96, H = 72;
+  Scene scene = loadScene("arealight");
+  MethodRun marched = renderScene(scene, "raymarch:steps=512:sampling=equiangular:vpls=16:sm=512", W, H);
+  ASSERT_EQ(marched.status, RunStatus::Success) << marched.reason;
+  for (const char* spec : {"vsv:vpls=16:sm=512", "minmax:vpls=16:sm=512"}) {
+    MethodRun run = renderScene(scene, spec, W, H);
+    ASSERT_EQ(run.status, RunStatus::Success) << spec << ": " << run.reason;
+    ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
+    std::printf("%s vs raymarch on the same 16 VPLs: L_s relMSE %.2e ssim %.4f\n", spec, ls.relmse, ls.ssim);
+    EXPECT_LT(ls.relmse, 2e-3) << spec;
+    EXPECT_GT(ls.ssim, 0.98) << spec;
+    EXPECT_TRUE(mentionsVpls(run)) << spec;
+  }
+}
+
+TEST_F(AreaLightTest, TinyAreaLightPerVplIsItsCosineLobedPointLight) {
+  // Side 1e-6 and one VPL: vsv behind the wrapper renders what vsv renders for the cosine-lobed
+  // point light of intensity L A at the centre, shadows included.
+  const char* common = R"("geometry": [
+      {"generator": "plane", "params": {"center": [0, 0, 0], "size": [12, 12]}},
+      {"generator": "box", "params": {"center": [-1, 0.75, 0], "size": [1, 1.5, 1]}}],
+    "camera": {"position": [0, 1.5, 6], "target": [0, 1, 0], "fov_y_deg": 55, "near": 0.05, "far": 30},
+    "medium": {"sigma_s": 0.08, "sigma_a": 0.02})";
+  Scene rect = sceneFromJson(std::string("{") + common +
+                             R"(, "light": {"type": "rect", "position": [0.3, 3.5, -1.5], "target": [0, 0, 0],
+                                "width": 1e-6, "height": 1e-6, "intensity": 4e13}})");
+  Scene point = rect;
+  point.light = virtualPointLight(rect.light, rect.light.position, 1);
+  ASSERT_NEAR(point.light.intensity, 40.0f, 1e-3f);
+  const int W = 64, H = 48;
+  for (int vpls : {1, 4}) {
+    MethodRun wrapped = renderScene(rect, "vsv:vpls=" + std::to_string(vpls) + ":sm=512", W, H);
+    MethodRun lobed = renderScene(point, "vsv:sm=512", W, H);
+    ASSERT_EQ(wrapped.status, RunStatus::Success) << wrapped.reason;
+    ASSERT_EQ(lobed.status, RunStatus::Success) << lobed.reason;
+    ErrorMetrics ls = compareImages(wrapped.inscatter, lobed.inscatter);
+    std::printf("rect 1e-6, %d VPLs vs its lobed point: L_s relMSE %.2e\n", vpls, ls.relmse);
+    EXPECT_LT(ls.relmse, 1e-6) << vpls;
+  }
+  // The lobe is real: the same point light without it is brighter off the light's axis.
+  Scene uniform = point;
+  uniform.light.cosineLobe = false;
+  MethodRun plain = renderScene(uniform, "vsv:sm=512", W, H);
+  MethodRun lobed = renderScene(point, "vsv:sm=512", W, H);
+  double sumPlain = 0, sumLobed = 0;
+  for (size_t i = 0; i < plain.inscatter.rgb.size(); ++i) {
+    sumPlain += plain.inscatter.rgb[i];
+    sumLobed += lobed.inscatter.rgb[i];
+  }
+  EXPECT_LT(sumLobed, 0.9 * sumPlain);
+}
+
+TEST_F(AreaLightTest, AreaLightFacingAwayPerVpl) {
+  // One-sided and facing up: only the fog above the light's plane is lit, next to the VPLs, where
+  // the point-light singularity is strongest. Every method stays finite and near raymarch on the
+  // same VPLs, and nothing below the plane is lit.
+  Scene scene = loadScene("arealight");
+  scene.light.direction = glm::vec3(0, 1, 0);
+  const int W = 64, H = 48;
+  MethodRun marched = renderScene(scene, "raymarch:steps=1024:sampling=equiangular:vpls=4:sm=256", W, H);
+  ASSERT_EQ(marched.status, RunStatus::Success) << marched.reason;
+  for (const char* spec : {"vsv:vpls=4:sm=256", "minmax:vpls=4:sm=256"}) {
+    MethodRun run = renderScene(scene, spec, W, H);
+    ASSERT_EQ(run.status, RunStatus::Success) << spec << ": " << run.reason;
+    ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
+    std::printf("%s facing away: L_s relMSE %.2e against raymarch on the same VPLs\n", spec, ls.relmse);
+    EXPECT_LT(ls.relmse, 5e-3) << spec;
+  }
+  // The floor lies below the light's plane: no direct light, whatever the method.
+  EXPECT_LT(marched.final.at(W / 2, H - 1)[0], 1e-3 + marched.inscatter.at(W / 2, H - 1)[0]);
+}
+
+TEST_F(AreaLightTest, PerVplWrapperRefusesWhatItCannotRun) {
+  Scene area = loadScene("arealight"), spheres = loadScene("spheres");
+  auto vsv = createMethod("vsv"), slicemap = createMethod("slicemap");
+  std::string hint = unsupportedReason(area, *vsv, resolveSpec("vsv", glLimits()).params);
+  EXPECT_NE(hint.find("vpls=N"), std::string::npos) << hint;
+  EXPECT_EQ(unsupportedReason(area, *vsv, resolveSpec("vsv:vpls=4", glLimits()).params), "");
+  std::string point = unsupportedReason(spheres, *vsv, resolveSpec("vsv:vpls=4", glLimits()).params);
+  EXPECT_NE(point.find("needs an area light"), std::string::npos) << point;
+  std::string fixed = unsupportedReason(area, *slicemap, resolveSpec("slicemap:vpls=4", glLimits()).params);
+  EXPECT_NE(fixed.find("one light position"), std::string::npos) << fixed;
+  MethodRun row = renderScene(spheres, "vsv:vpls=4", 16, 12);
+  EXPECT_EQ(row.status, RunStatus::Unsupported);
+  EXPECT_THROW(resolveSpec("vsv:vpls=-1", glLimits()), UsageError);
+  EXPECT_THROW(resolveSpec("vsv:vpls=100000", glLimits()), UsageError);
 }
 
 }  // namespace

@@ -50,6 +50,25 @@ TEST_F(TimerTest, WallClockAgreesWithCpuTimedWork) {
   for (double ms : timer.samples().at(PassTimer::kFrame)) EXPECT_GE(ms, 30.0);
 }
 
+TEST_F(TimerTest, APassRunTwiceInAFrameCountsOnceWithItsSum) {
+  for (TimerStrategy strategy : {TimerStrategy::WallClock, TimerStrategy::GpuTimestamp}) {
+    PassTimer timer(strategy);
+    for (int frame = 0; frame < 5; ++frame) {
+      timer.beginFrame(true);
+      for (int light = 0; light < 2; ++light) {
+        auto scope = timer.scope("Per Light");
+        if (strategy == TimerStrategy::WallClock) std::this_thread::sleep_for(std::chrono::milliseconds(15));
+      }
+      timer.endFrame();
+    }
+    timer.finish();
+    ASSERT_EQ(timer.samples().at("Per Light").size(), 5u) << timerStrategyName(strategy);
+    if (strategy == TimerStrategy::WallClock) {
+      for (double ms : timer.samples().at("Per Light")) EXPECT_GE(ms, 30.0);
+    }
+  }
+}
+
 TEST_F(TimerTest, GpuTimestampStrategyRecordsEveryPass) {
   gl::Texture target = gl::createTexture2D(GL_RGBA8, 64, 64);
   gl::Framebuffer fbo = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, target.id()}});

@@ -16,6 +16,7 @@ layout(std140, binding = 0) uniform FrameUniformBlock {
   vec4 medium;         // sigma_s, sigma_a, sigma_t, g
   vec4 cameraClip;     // near, far, phase (0 isotropic, 1 HG), directional ortho half-extent
   ivec4 viewport;      // width, height, frame index, seed
+  vec4 lightEmission;  // x: 1 cosine lobe about lightDir (area lights, virtual point lights); y: two-sided
 } u;
 
 layout(binding = 0) uniform sampler2DShadow shadowMap2D;
@@ -61,12 +62,13 @@ bool hgPhase() { return u.cameraClip.z > 0.5; }
 float sigmaS() { return u.medium.x; }
 // Point lights and area lights use the cube shadow map around u.lightPos.
 bool omniLight() { return lightType() == LIGHT_POINT || lightType() >= LIGHT_RECT; }
-// Cosine emission of an area light towards direction d (unit, from the light): one-sided unless
-// u.lightDir.w (two-sided flag for area lights) is set.
+// Cosine emission of an area light (or one of its virtual point lights) towards direction d (unit,
+// from the light): one-sided unless u.lightEmission.y (two-sided) is set.
 float areaEmission(vec3 d) {
   float c = dot(d, u.lightDir.xyz);
-  return u.lightDir.w > 0.5 ? abs(c) : max(c, 0.0);
+  return u.lightEmission.y > 0.5 ? abs(c) : max(c, 0.0);
 }
+bool cosineLobe() { return u.lightEmission.x > 0.5; }
 float sigmaT() { return u.medium.z; }
 
 // Phase function of the angle between the light's travel direction and the direction to the eye.
@@ -110,7 +112,7 @@ vec3 lightIncident(vec3 x) {
   float r2 = max(dot(d, d), 1e-12);
   float r = sqrt(r2);
   vec3 L = u.lightColor.rgb * (exp(-sigmaT() * r) / r2);
-  if (type >= LIGHT_RECT) L *= areaEmission(d / r);
+  if (cosineLobe()) L *= areaEmission(d / r);
   if (type == LIGHT_SPOT) {
     float c = dot(d / r, u.lightDir.xyz);
     float cosOuter = u.lightDir.w, cosInner = u.lightColor.w;

@@ -38,6 +38,7 @@ class DsmMethod : public Method {
   }
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   bool needsSharedShadowMap() const override { return needsSharedShadowMap_; }
+  bool lightFixedAtSetup() const override { return true; }  // light views are fitted in setup
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;

@@ -57,6 +57,7 @@ std::string MinmaxMethod::description() const {
 Capabilities MinmaxMethod::capabilities() const {
   Capabilities c;
   c.pointLight = c.spotLight = c.directionalLight = true;
+  c.cosineLobe = true;  // through the light-texture path, as the spot cone
   c.texturedLight = true;
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;
@@ -90,7 +91,7 @@ void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params)
   upOneLevel_ = params.getBool("up_one_level");
   delayGamma_ = params.getBool("delay_gamma");
   maxTextureSize_ = context.limits.maxTextureSize;
-  textured_ = context.effects.lightTexture || context.scene.light.type == LightType::Spot;
+  textured_ = context.effects.lightTexture || context.scene.light.type == LightType::Spot || context.effects.cosineLobe;
   rowLength_ = slices_ = allocatedRank_ = 0;
 
   std::string defines = sceneDefines(context.effects);

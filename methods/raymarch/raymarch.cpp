@@ -2,6 +2,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "harness/vpl.hpp"
+
 namespace vs {
 
 static constexpr const char* kPass = "Ray Marching";
@@ -16,24 +18,13 @@ struct AreaLightUniforms {
   glm::vec4 range;                       // x near, y far of the cube maps
 };
 
-// Point (u, v) of a 2D Hammersley set: stratified in u, the radical inverse of k in v.
-static glm::vec2 hammersley(int k, int count) {
-  uint32_t bits = uint32_t(k);
-  bits = (bits << 16u) | (bits >> 16u);
-  bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
-  bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
-  bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
-  bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-  return glm::vec2((float(k) + 0.5f) / float(count), float(bits) * 2.3283064365386963e-10f);
-}
-
 std::string RaymarchMethod::description() const {
   return "brute-force per-pixel ray marching of L_s with shadow-map visibility (the reference)";
 }
 
 Capabilities RaymarchMethod::capabilities() const {
   Capabilities c;
-  c.pointLight = c.spotLight = c.directionalLight = c.areaLight = true;
+  c.pointLight = c.spotLight = c.directionalLight = c.areaLight = c.cosineLobe = true;
   c.texturedLight = true;
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;
@@ -96,11 +87,7 @@ void RaymarchMethod::setup(const SetupContext& context, const ParamValues& param
                                      std::to_string(lightSamples_) + "\n");
   if (lightSamples_ > 0) {
     const Light& light = context.scene.light;
-    vplPositions_.clear();
-    for (int k = 0; k < lightSamples_; ++k) {
-      glm::vec2 uv = hammersley(k, lightSamples_);
-      vplPositions_.push_back(light.samplePoint(uv.x, uv.y));
-    }
+    vplPositions_ = virtualPointLightPositions(light, lightSamples_);
     // Cube maps reach every corner of the scene's bounds from any point on the light.
     glm::vec3 lo = context.geometry.boundsLo, hi = context.geometry.boundsHi;
     float reach = glm::length(hi - lo) + 2.0f * std::max({light.width, light.height, light.radius}) +

@@ -48,6 +48,7 @@ class SlicemapMethod : public Method {
   std::vector<std::string> approximations() const override;
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   bool needsSharedShadowMap() const override { return needsSharedShadowMap_; }
+  bool lightFixedAtSetup() const override { return true; }  // depth slices are fitted to the light in setup
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;

@@ -168,6 +168,7 @@ std::string VsvMethod::description() const {
 Capabilities VsvMethod::capabilities() const {
   Capabilities c;
   c.pointLight = c.spotLight = c.directionalLight = true;
+  c.cosineLobe = true;  // L_in comes from lightIncident() at each sample
   c.texturedLight = true;
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;

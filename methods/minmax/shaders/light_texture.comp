@@ -1,6 +1,6 @@
 #version 450 core
 // Light Texture Precomputation (Chen et al. 2011, §3.4): with a light texture T (here also the spot
-// cone, which is a function of the light ray too) the gamma factor of the low-rank terms depends on
+// cone and a point light's cosine lobe, which are functions of the light ray too) the gamma factor of the low-rank terms depends on
 // the slice: per slice k, prefix sums of Gamma_i(gamma) T(alpha_k, gamma) over gamma at a reduced
 // resolution (trapezoid rule), row k * rank + i of the table.
 #include "common.glsl"
@@ -19,6 +19,7 @@ vec3 lightRayTexture(vec3 n, float gamma) {
     float cosOuter = u.lightDir.w, cosInner = u.lightColor.w;
     t *= clamp((dot(w, u.lightDir.xyz) - cosOuter) / max(cosInner - cosOuter, 1e-6), 0.0, 1.0);
   }
+  if (cosineLobe()) t *= areaEmission(w);
   return t;
 }
 
