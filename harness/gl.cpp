@@ -144,7 +144,10 @@ static void expand(const std::string& path, Preprocessed& out, std::set<std::str
       while (std::getline(defs, def)) emit(def, -1, 0);
     } else if (std::regex_match(line, m, includeRe)) {
       std::string name = m[1];
+      // Beside the including file, then from the source root ("methods/epipolar/shaders/..."),
+      // then among the shared harness shaders.
       std::string candidate = folderOf(path) + name;
+      if (!shaderFiles().count(candidate)) candidate = name;
       if (!shaderFiles().count(candidate)) candidate = "harness/shaders/" + name;
       if (!shaderFiles().count(candidate))
         throw GlError(path + ":" + std::to_string(lineNo) + ": cannot find include \"" + name + "\"");

@@ -1,5 +1,6 @@
 // Epipolar space of the VSV grid (Wyman 2011, §2.1) and the voxel-buffer layout (§2.2).
-// Mirrors vs::vsv::GridUniforms and the CPU functions in methods/vsv/vsv.cpp.
+// Mirrors vs::vsv::GridUniforms and the CPU functions in methods/epipolar/epipolar_grid.cpp.
+#include "methods/epipolar/shaders/epipolar_frame.glsl"
 // Directional light: the axis points towards the light at infinity, light rays are the lines
 // parallel to it, and the third coordinate ("φ") is the distance from the axis instead of an angle.
 layout(std140, binding = 1) uniform VsvBlock {
@@ -24,8 +25,6 @@ layout(std430, binding = 0) readonly buffer VsvRanges {
   uint phiMaxBits;
 } vsvRanges;
 
-const float TWO_PI = 6.28318530717958647692;
-
 int nAlpha() { return vsv.grid.x; }
 int nTheta() { return vsv.grid.y; }
 int nPhi() { return vsv.grid.z; }
@@ -45,23 +44,13 @@ float phiMax() {
   return clamp(dynamicMax, 1e-4, PI);
 }
 
-// atan2 that is defined at the origin (§4.2: a vertex on the epipole).
-float safeAtan(float y, float x) { return (abs(x) + abs(y) > 1e-30) ? atan(y, x) : 0.0; }
-
-// Coordinates of a direction or offset from the eye in the epipolar frame.
-float thetaOf(vec3 offsetFromEye) {
-  vec2 perp = vec2(dot(offsetFromEye, vsv.e1.xyz), dot(offsetFromEye, vsv.e2.xyz));
-  float theta = safeAtan(perp.y, perp.x);
-  return theta < 0.0 ? theta + TWO_PI : theta;
+EpipolarFrame vsvFrame() {
+  return EpipolarFrame(vsv.eyeAndDistance.xyz, vsv.eyeAndDistance.w, vsv.axis.xyz, vsv.e1.xyz, vsv.e2.xyz,
+                       vsv.fixedRanges.w > 0.5);
 }
-// (x along the axis, y >= 0 distance from it) in the point's own epipolar half-plane.
-vec2 planeCoords(vec3 offsetFromEye) {
-  float x = dot(offsetFromEye, vsv.axis.xyz);
-  vec2 perp = vec2(dot(offsetFromEye, vsv.e1.xyz), dot(offsetFromEye, vsv.e2.xyz));
-  return vec2(x, length(perp));
-}
-float alphaOfPlane(vec2 p) { return safeAtan(p.y, p.x); }
-float phiOfPlane(vec2 p) { return parallelLight() ? p.y : safeAtan(p.y, gridDistance() - p.x); }
+float thetaOf(vec3 offsetFromEye) { return frameTheta(vsvFrame(), offsetFromEye); }
+vec2 planeCoords(vec3 offsetFromEye) { return framePlane(vsvFrame(), offsetFromEye); }
+float phiOfPlane(vec2 p) { return framePhi(vsvFrame(), p); }
 vec3 epipolarCoords(vec3 world) {  // (θ, α, φ)
   vec3 offset = world - vsv.eyeAndDistance.xyz;
   vec2 p = planeCoords(offset);
@@ -80,7 +69,7 @@ int phiBin(float phi, float pMax) {
 }
 
 // Unit vector from the eye towards θ in its half-plane, perpendicular to the axis.
-vec3 halfPlaneDir(float theta) { return cos(theta) * vsv.e1.xyz + sin(theta) * vsv.e2.xyz; }
+vec3 halfPlaneDir(float theta) { return frameHalfPlaneDir(vsvFrame(), theta); }
 
 // Bits lo..hi (inclusive, bin numbers) that fall into 32-bit word `word` of the whole φ range.
 uint wordMask(int lo, int hi, int word) {
