@@ -2,6 +2,7 @@
 #include "registry.hpp"
 
 #include "dsm/dsm.hpp"
+#include "ivsv/ivsv.hpp"
 #include "minmax/minmax.hpp"
 #include "raymarch/raymarch.hpp"
 #include "slicemap/slicemap.hpp"
@@ -21,6 +22,7 @@ const MethodRegistry& registeredMethods() {
       entry<VsvMethod>(),
       entry<DsmMethod>(),
       entry<SlicemapMethod>(),
+      entry<IvsvMethod>(),
   };
   return methods;
 }

@@ -46,6 +46,19 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
     double outer = r.uniform(5, 85);
     light = {{"type", "spot"},      {"position", r.point(-6, 6, 0.2, 8)}, {"target", r.point(-3, 3, 0, 1)},
              {"spot_outer_deg", outer}, {"spot_inner_deg", outer * r.uniform(0, 1)}};
+  } else if (pick > 2.7) {  // area lights (rect or disk), for ivsv and the per-VPL wrapper
+    json dir = r.point(-1, 1, -1, 0.3);
+    if (std::fabs(dir[0].get<double>()) + std::fabs(dir[1].get<double>()) + std::fabs(dir[2].get<double>()) < 1e-3)
+      dir = json::array({0, -1, 0});
+    bool rect = r.chance(0.5);
+    light = {{"type", rect ? "rect" : "disk"}, {"position", r.point(-6, 6, 0.2, 8)}, {"direction", dir},
+             {"two_sided", r.chance(0.2)}};
+    if (rect) {
+      light["width"] = r.logUniform(1e-4, 3);
+      light["height"] = r.logUniform(1e-4, 3);
+    } else {
+      light["radius"] = r.logUniform(1e-4, 1.5);
+    }
   } else {
     json dir = r.point(-1, 1, -1, 0.3);
     if (std::fabs(dir[0].get<double>()) + std::fabs(dir[1].get<double>()) + std::fabs(dir[2].get<double>()) < 1e-3)
@@ -53,6 +66,7 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
     light = {{"type", "directional"}, {"direction", dir}};
   }
   light["intensity"] = light["type"] == "directional" ? r.logUniform(0.1, 10) : r.logUniform(1, 200);
+  if (light["type"] == "rect" || light["type"] == "disk") light["intensity"] = r.logUniform(1, 50);
   light["color"] = json::array({r.uniform(0.2, 1), r.uniform(0.2, 1), r.uniform(0.2, 1)});
   scene["light"] = light;
   json medium = {{"sigma_s", r.chance(0.1) ? 0.0 : r.logUniform(1e-4, 2)},

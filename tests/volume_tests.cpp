@@ -133,14 +133,19 @@ TEST_F(VolumeTest, OnlyMethodsWithVolumeDataRunIt) {
   const auto& header = rows[0];
   auto col = [&](const std::string& name) { return size_t(std::find(header.begin(), header.end(), name) - header.begin()); };
   int supported = 0, unsupported = 0;
+  const Effects effects = deriveEffects(loadScene("volumes"));
   for (size_t i = 1; i < rows.size(); ++i) {
     EXPECT_NE(rows[i][col("effects")].find("volume-data"), std::string::npos);
-    if (createMethod(rows[i][col("method")])->capabilities().volumeData) {
+    Capabilities caps = createMethod(rows[i][col("method")])->capabilities();
+    if (caps.volumeData) {
       EXPECT_EQ(rows[i][col("status")], "Success") << rows[i][col("reason")];
       ++supported;
     } else {
       EXPECT_EQ(rows[i][col("status")], "Unsupported");
-      EXPECT_NE(rows[i][col("reason")].find("volume data"), std::string::npos) << rows[i][col("reason")];
+      // The reason names volume data, unless something else (the light type) is missing first.
+      caps.volumeData = true;
+      if (missingCapability(caps, effects).empty())
+        EXPECT_NE(rows[i][col("reason")].find("volume data"), std::string::npos) << rows[i][col("reason")];
       ++unsupported;
     }
   }

@@ -1,0 +1,84 @@
+// ivsv: the point cloud and paraboloid map on the CPU, then the method end to end on `arealight`
+// against raymarch on the same virtual point lights and against the reference.
+#include <cmath>
+#include <cstdio>
+
+#include "gl_test.hpp"
+#include "harness/metrics.hpp"
+#include "ivsv/ivsv.hpp"
+
+namespace vs::testing {
+namespace {
+
+class IvsvTest : public GlTest {};
+
+TEST(IvsvCpu, PointCloudLiesOnTheOpaqueTrianglesAndFollowsArea) {
+  Scene scene = sceneFromJson(R"({"geometry": [
+      {"generator": "plane", "params": {"center": [0, 0, 0], "size": [4, 4]}},
+      {"generator": "plane", "params": {"center": [0, 2, 0], "size": [2, 2]}}],
+    "camera": {"position": [0, 1, 6], "target": [0, 1, 0]},
+    "light": {"type": "rect", "position": [0, 5, 0], "direction": [0, -1, 0], "width": 1, "height": 1, "intensity": 1},
+    "medium": {"sigma_s": 0.1, "sigma_a": 0}})");
+  std::vector<glm::vec4> points = ivsv::samplePointCloud(scene, 20000, 7);
+  ASSERT_EQ(points.size(), 20000u);
+  size_t upper = 0;
+  for (const auto& p : points) {
+    EXPECT_TRUE(std::fabs(p.y) < 1e-5f || std::fabs(p.y - 2.0f) < 1e-5f) << p.y;
+    upper += p.y > 1.0f;
+  }
+  EXPECT_NEAR(double(upper) / points.size(), 4.0 / 20.0, 0.015);  // areas 4 and 16
+}
+
+TEST(IvsvCpu, ParaboloidMapsTheHemisphereIntoTheUnitDisk) {
+  glm::vec3 t(1, 0, 0), b(0, 0, 1), n(0, -1, 0);
+  EXPECT_NEAR(glm::length(ivsv::paraboloid(n, t, b, n)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(ivsv::paraboloid(t, t, b, n)), 1.0f, 1e-6f);  // the horizon
+  glm::vec3 d = glm::normalize(glm::vec3(0.3f, -0.8f, 0.2f));
+  EXPECT_LT(glm::length(ivsv::paraboloid(d, t, b, n)), 1.0f);
+}
+
+TEST_F(IvsvTest, MatchesRaymarchOnTheSameVirtualPointLights) {
+  // Same 64 Hammersley VPLs: what is left is the ISM's and the coarse grid's visibility.
+  const int W = 96, H = 72;
+  Scene scene = loadScene("arealight");
+  MethodRun marched = renderScene(scene, "raymarch:steps=256:sampling=equiangular:vpls=64:sm=512", W, H);
+  ASSERT_EQ(marched.status, RunStatus::Success) << marched.reason;
+  MethodRun run = renderScene(scene, "ivsv:lights=64:steps=64", W, H);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+  ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
+  std::printf("ivsv vs raymarch on the same 64 VPLs: L_s relMSE %.2e ssim %.4f\n", ls.relmse, ls.ssim);
+  EXPECT_LT(ls.relmse, 2e-2);
+  EXPECT_GT(ls.ssim, 0.9);
+  for (const char* pass : {"VPL Sampling", "Imperfect Shadow Maps", "Voxelize", "Scan", "Final Gather"})
+    EXPECT_TRUE(run.passStats.count(pass)) << pass;
+}
+
+TEST_F(IvsvTest, UnshadowedEqualsRaymarchWithoutOccluders) {
+  // Without casters the grids are empty: the gather is the plain VPL integral.
+  const int W = 64, H = 48;
+  Scene scene = loadScene("arealight");
+  RunOptions options;
+  options.width = W;
+  options.height = H;
+  options.frames = 1;
+  options.warmup = 0;
+  options.shadowCasters = false;
+  MethodRun marched = renderScene(scene, "raymarch:steps=256:sampling=equiangular:vpls=16:sm=256", options);
+  MethodRun run = renderScene(scene, "ivsv:lights=16:steps=256", options);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+  ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
+  std::printf("ivsv unshadowed vs raymarch: L_s relMSE %.2e\n", ls.relmse);
+  EXPECT_LT(ls.relmse, 1e-3);
+}
+
+TEST_F(IvsvTest, RefusesTwoSidedLightsAndPointLights) {
+  Scene scene = loadScene("arealight");
+  scene.light.twoSided = true;
+  auto m = createMethod("ivsv");
+  EXPECT_NE(m->unsupportedReason(scene, resolveSpec("ivsv", glLimits()).params).find("two-sided"), std::string::npos);
+  Scene spheres = loadScene("spheres");
+  EXPECT_NE(m->unsupportedReason(spheres, resolveSpec("ivsv", glLimits()).params), "");
+}
+
+}  // namespace
+}  // namespace vs::testing
