@@ -14,11 +14,12 @@ glm::vec2 hammersley(int k, int count) {
   return glm::vec2((float(k) + 0.5f) / float(std::max(count, 1)), float(bits) * 2.3283064365386963e-10f);
 }
 
-std::vector<glm::vec3> virtualPointLightPositions(const Light& areaLight, int count) {
+std::vector<glm::vec3> virtualPointLightPositions(const Light& areaLight, int count, bool shifted) {
   std::vector<glm::vec3> points;
   points.reserve(size_t(std::max(count, 0)));
+  glm::vec2 shift = shifted ? glm::vec2(0.5f / float(std::max(count, 1)), 0.381966011f) : glm::vec2(0.0f);
   for (int k = 0; k < count; ++k) {
-    glm::vec2 uv = hammersley(k, count);
+    glm::vec2 uv = glm::fract(hammersley(k, count) + shift);
     points.push_back(areaLight.samplePoint(uv.x, uv.y));
   }
   return points;

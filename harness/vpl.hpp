@@ -13,8 +13,10 @@ namespace vs {
 // Point (u, v) of the 2D Hammersley set of `count` points: stratified in u, radical inverse in v.
 glm::vec2 hammersley(int k, int count);
 
-// `count` points on the area light's surface (Light::samplePoint at the Hammersley points).
-std::vector<glm::vec3> virtualPointLightPositions(const Light& areaLight, int count);
+// `count` points on the area light's surface (Light::samplePoint at the Hammersley points). With
+// `shifted`, the set is moved off those points (u by half a stratum, v by 1 - 1/golden, modulo 1):
+// the reference samples the light this way, so that a VPL method's sampling error shows against it.
+std::vector<glm::vec3> virtualPointLightPositions(const Light& areaLight, int count, bool shifted = false);
 
 // One of `count` VPLs of `areaLight` at `position`: a point light of intensity
 // radiance * area / count with a cosine lobe about the light's normal (one- or two-sided as the

@@ -237,6 +237,24 @@ TEST_F(AreaLightTest, AreaLightFacingAwayPerVpl) {
   EXPECT_LT(marched.final.at(W / 2, H - 1)[0], 1e-3 + marched.inscatter.at(W / 2, H - 1)[0]);
 }
 
+TEST(VirtualPointLights, TheReferenceSamplesTheLightElsewhere) {
+  // The reference's light samples (light_shift) share no point with the VPLs of ivsv and the
+  // wrapper, and both sets stay on the light.
+  Light light;
+  light.type = LightType::Rect;
+  light.width = 3.0f;
+  light.height = 1.5f;
+  for (int count : {1, 16, 64}) {
+    auto vpls = virtualPointLightPositions(light, count), shifted = virtualPointLightPositions(light, count, true);
+    ASSERT_EQ(shifted.size(), size_t(count));
+    for (const auto& p : shifted) {
+      EXPECT_LE(std::fabs(p.x - light.position.x), 1.5f + 1e-5f);
+      EXPECT_LE(std::fabs(p.z - light.position.z), 0.75f + 1e-5f);
+      for (const auto& q : vpls) EXPECT_GT(glm::length(p - q), 1e-4f) << count;
+    }
+  }
+}
+
 TEST_F(AreaLightTest, PerVplWrapperRefusesWhatItCannotRun) {
   Scene area = loadScene("arealight"), spheres = loadScene("spheres");
   auto vsv = createMethod("vsv"), slicemap = createMethod("slicemap");

@@ -41,6 +41,9 @@ class IvsvMethod : public Method {
             "visibility quantised to a coarse epipolar grid per VPL"};
   }
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
+  // The ISM's holes leak light: with the light shut inside a box (tests/hard_cases.cpp) L_s
+  // relMSE reaches 0.05 at the defaults.
+  double declaredRelMseBound() const override { return 0.1; }
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
