@@ -1,0 +1,237 @@
+// ivsv_benchmark: the imperfect-VSV paper's timing table (naive VSVs at 512³ and 128³ through the
+// per-VPL wrapper, imperfect VSVs at 128³; voxelize / scan / final gather) beside the paper's
+// numbers, the "about 4x hard VSV" claim, scaling with the VPL count, L_s error against the knobs,
+// equal-quality speed against brute-force area-light ray marching, and an error map of the ISM's
+// holes. Prints Markdown (results/ivsv/README.md is this output); not a test.
+// Usage: ivsv_benchmark [--quick] [--images DIR]
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "harness/context.hpp"
+#include "harness/image.hpp"
+#include "harness/metrics.hpp"
+#include "harness/runner.hpp"
+#include "harness/vpl.hpp"
+#include "registry.hpp"
+
+namespace {
+
+using namespace vs;
+
+struct Measured {
+  MethodRun run;
+  double scatterMs = 0;  // the method's own passes (the papers leave out the shared ones)
+  double relmse = 0;
+  bool ok = false;
+};
+
+double ownPasses(const MethodRun& run) {
+  double sum = 0;
+  for (const auto& [pass, stats] : run.passStats)
+    if (!isSharedPass(pass)) sum += stats.medianMs;
+  return sum;
+}
+
+Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
+                 const Image* reference) {
+  Measured m;
+  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
+  if (m.run.status != RunStatus::Success) {
+    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
+    return m;
+  }
+  m.ok = true;
+  m.scatterMs = ownPasses(m.run);
+  if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
+  std::fflush(stdout);
+  return m;
+}
+
+// Voxelize / scan / gather columns of a row: naive rows (vsv behind the wrapper) fuse the scan
+// into their voxelizer; their per-VPL shadow maps stand where ivsv has its ISMs.
+struct Columns {
+  double maps, voxelize, scan, gather;
+};
+Columns columns(const MethodRun& r) {
+  if (r.method == "ivsv")
+    return {r.passMs("Imperfect Shadow Maps"), r.passMs("Voxelize"), r.passMs("Scan"), r.passMs("Final Gather")};
+  return {r.passMs("VPL Shadow Maps"), r.passMs("Epipolar Ranges") + r.passMs("Voxelize: From SM"), r.passMs("Scan VSV"),
+          r.passMs("Compute L_s") + r.passMs("VPL Accumulation")};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string imageDir;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--images") == 0 && i + 1 < argc) {
+      imageDir = argv[++i];
+    } else {
+      std::fprintf(stderr, "usage: ivsv_benchmark [--quick] [--images DIR]\n");
+      return 2;
+    }
+  }
+  const int w = quick ? 48 : 96, h = quick ? 36 : 72, frames = quick ? 1 : 2;
+  const int tableVpls = quick ? 16 : 256;
+  GlContext context(false);
+  gl::installDebugOutput(false);
+  gl::Limits limits = gl::queryLimits();
+  Scene scene = loadScene("arealight");
+  // The strongest reference this machine holds: 256 light samples off the VPLs' points.
+  const std::string refSpec = quick ? "raymarch:steps=256:sampling=equiangular:light_samples=64:light_sm=256:light_shift=1"
+                                    : "raymarch:steps=512:sampling=equiangular:light_samples=256:light_sm=256:light_shift=1";
+  std::printf("# ivsv: imperfect voxelized shadow volumes, measured\n\n");
+  std::printf("Regenerate: `scripts/reproduce ivsv` (build/methods/ivsv/ivsv_benchmark --images results/ivsv > "
+              "results/ivsv/README.md, about 10 minutes on 2 cores).\n\n");
+  std::printf("- renderer: %s (%s)\n", context.info().glRenderer.c_str(), context.info().glVersion.c_str());
+  std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
+  std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
+  std::printf("- reference: `%s`. Its light samples are not the VPLs of any row, so each row's light-sampling "
+              "error counts.\n", refSpec.c_str());
+  std::printf("- times: the method's own passes; the shared Shadow Map, G Buffer, Direct Lighting and Composite "
+              "are left out, as in the paper\n\n");
+  Measured ref = measure(scene, refSpec, limits, w, h, 1, nullptr);
+  if (!ref.ok) return 1;
+  const Image& reference = ref.run.inscatter;
+
+  // ---- 1. The paper's table
+  std::printf("## The paper's table at %d VPLs\n\n", tableVpls);
+  std::printf("The paper's numbers are for its own scene and GPU; ours are llvmpipe on 2 cores at %dx%d. The "
+              "naive rows are vsv behind the per-VPL wrapper (`vpls=N`): per VPL a cube shadow map, then vsv's "
+              "fused voxelizer (the scan is inside it), then Compute L_s, summed.\n\n", w, h);
+  std::printf("| row | spec | shadow maps / ISMs ms | voxelize ms | scan ms | final gather ms | total ms | "
+              "paper voxelize / scan / gather ms | paper total ms | L_s relMSE |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  const std::string n = std::to_string(tableVpls);
+  struct Row {
+    const char *name, *paper, *paperTotal;
+    std::string spec;
+  };
+  std::vector<Row> rows = {{"naive 512³", "250 / 1400 / 175", "≈ 1800", "vsv:vpls=" + n + ":alpha=512:theta=512:phi=512:sm=1024"},
+                           {"naive 128³", "128 / 124 / 99", "≈ 351", "vsv:vpls=" + n + ":alpha=128:theta=128:phi=128:sm=256"},
+                           {"imperfect 128³", "7 / 5 / 15", "≈ 27", "ivsv:lights=" + n}};
+  std::vector<double> totals;
+  for (const Row& row : rows) {
+    Measured m = measure(scene, row.spec, limits, w, h, frames, &reference);
+    if (!m.ok) return 1;
+    Columns c = columns(m.run);
+    totals.push_back(m.scatterMs);
+    std::printf("| %s | `%s` | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %.2e |\n", row.name, row.spec.c_str(), c.maps,
+                c.voxelize, c.scan, c.gather, m.scatterMs, row.paper, row.paperTotal, m.relmse);
+  }
+  std::printf("\nImperfect 128³ against naive 512³: **%.1fx** faster per frame (the paper: ≈ 67x; the issue asks for "
+              "at least 20x); against naive 128³: %.1fx (the paper: ≈ 13x).\n\n",
+              totals[0] / std::max(totals[2], 1e-9), totals[1] / std::max(totals[2], 1e-9));
+
+  // ---- 2. About 4x hard VSVs
+  Scene hard = scene;
+  hard.light = virtualPointLight(scene.light, scene.light.position, 1);
+  Measured hardVsv = measure(hard, "vsv:alpha=512:theta=512:phi=512:sm=1024", limits, w, h, frames, nullptr);
+  Measured defaults = measure(scene, "ivsv", limits, w, h, frames, &reference);
+  Measured paperIvsv = measure(scene, "ivsv:lights=256", limits, w, h, frames, &reference);
+  if (hardVsv.ok && defaults.ok && paperIvsv.ok)
+    std::printf("## \"About 4x hard volumetric shadows\"\n\nHard VSV (vsv at 512³ for one point light at the light's "
+                "centre): %.1f ms. ivsv at its defaults (64 VPLs): %.1f ms, **%.1fx**; at 256 VPLs: %.1f ms, "
+                "**%.1fx**.\n\n",
+                hardVsv.scatterMs, defaults.scatterMs, defaults.scatterMs / std::max(hardVsv.scatterMs, 1e-9),
+                paperIvsv.scatterMs, paperIvsv.scatterMs / std::max(hardVsv.scatterMs, 1e-9));
+
+  // ---- 3. Scaling with the VPL count
+  std::printf("## Time and error against the VPL count\n\n| VPLs | ivsv ms | ISMs | voxelize | scan | gather | ivsv "
+              "relMSE | naive 128³ ms | naive 128³ relMSE |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<int> counts = quick ? std::vector<int>{4, 16} : std::vector<int>{16, 64, 256, 1024};
+  for (int count : counts) {
+    Measured iv = measure(scene, "ivsv:lights=" + std::to_string(count), limits, w, h, frames, &reference);
+    if (!iv.ok) continue;
+    Columns c = columns(iv.run);
+    std::printf("| %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.2e", count, iv.scatterMs, c.maps, c.voxelize, c.scan, c.gather,
+                iv.relmse);
+    if (count <= 256) {
+      Measured naive = measure(scene, "vsv:vpls=" + std::to_string(count) + ":alpha=128:theta=128:phi=128:sm=256", limits,
+                               w, h, frames, &reference);
+      std::printf(" | %.1f | %.2e |\n", naive.scatterMs, naive.relmse);
+    } else {
+      std::printf(" | | |\n");
+    }
+    std::fflush(stdout);
+  }
+
+  // ---- 4. Error against the knobs
+  std::printf("\n## L_s relMSE against the knobs (64 VPLs otherwise at the defaults)\n\n| parameter | value | relMSE | ms |\n"
+              "|---|---|---|---|\n");
+  struct Knob {
+    const char* key;
+    std::vector<const char*> values;
+  };
+  std::vector<Knob> knobs = {{"points", {"512", "2048", "4096", "16384"}},
+                             {"grid", {"32", "64", "128", "256"}},
+                             {"ism", {"32", "64", "128"}},
+                             {"pullpush", {"0", "1", "3", "5"}},
+                             {"interp", {"0", "1"}},
+                             {"steps", {"8", "16", "32", "64"}}};
+  if (quick) knobs.resize(2);
+  for (const auto& knob : knobs)
+    for (const char* value : knob.values) {
+      Measured m = measure(scene, std::string("ivsv:") + knob.key + "=" + value, limits, w, h, frames, &reference);
+      if (m.ok) std::printf("| %s | %s | %.2e | %.1f |\n", knob.key, value, m.relmse, m.scatterMs);
+    }
+
+  // ---- 5. Equal quality against brute-force area-light ray marching
+  std::printf("\n## Equal L_s error against brute-force area-light ray marching\n\n");
+  std::printf("For each ivsv setting, the cheapest raymarch (light samples x equiangular steps, one cube shadow map "
+              "per light sample) whose L_s relMSE is at most ivsv's.\n\n");
+  std::printf("| ivsv params | relMSE | ms | raymarch params | relMSE | ms | speedup |\n|---|---|---|---|---|---|---|\n");
+  std::vector<Measured> baselines;
+  std::vector<std::string> baselineSpecs;
+  for (int samples : quick ? std::vector<int>{4, 16} : std::vector<int>{8, 16, 32, 64, 128, 256})
+    for (int steps : quick ? std::vector<int>{16} : std::vector<int>{16, 32, 64}) {
+      std::string spec = "raymarch:sampling=equiangular:light_sm=256:light_samples=" + std::to_string(samples) +
+                         ":steps=" + std::to_string(steps);
+      baselines.push_back(measure(scene, spec, limits, w, h, frames, &reference));
+      baselineSpecs.push_back(spec.substr(9));
+    }
+  std::vector<std::string> ladder = createMethod("ivsv")->qualityLadder();
+  for (const std::string& setting : ladder) {
+    Measured m = measure(scene, "ivsv:" + setting, limits, w, h, frames, &reference);
+    if (!m.ok) continue;
+    int best = -1;
+    for (size_t i = 0; i < baselines.size(); ++i)
+      if (baselines[i].ok && baselines[i].relmse <= m.relmse &&
+          (best < 0 || baselines[i].scatterMs < baselines[size_t(best)].scatterMs))
+        best = int(i);
+    if (best < 0) {
+      std::printf("| %s | %.2e | %.1f | none of the grid reaches it | | | |\n", setting.c_str(), m.relmse, m.scatterMs);
+    } else {
+      const Measured& b = baselines[size_t(best)];
+      std::printf("| %s | %.2e | %.1f | %s | %.2e | %.1f | %.2fx |\n", setting.c_str(), m.relmse, m.scatterMs,
+                  baselineSpecs[size_t(best)].c_str(), b.relmse, b.scatterMs, b.scatterMs / std::max(m.scatterMs, 1e-9));
+    }
+    std::fflush(stdout);
+  }
+
+  // ---- 6. The ISM's holes and leaks
+  if (!imageDir.empty()) {
+    Measured same = measure(scene, "raymarch:steps=64:sampling=equiangular:vpls=64:sm=512", limits, w, h, 1, nullptr);
+    std::printf("\n## The ISM's holes and leaks\n\n");
+    std::printf("|L_s| difference between ivsv (64 VPLs) and raymarch on the same 64 VPLs with cube shadow maps, so "
+                "only visibility differs; full scale = 2 %% of the reference's peak.\n\n");
+    float peak = 0.0f;
+    for (float v : same.run.inscatter.rgb) peak = std::max(peak, v);
+    for (const char* pullpush : {"0", "3"}) {
+      Measured m = measure(scene, std::string("ivsv:steps=64:pullpush=") + pullpush, limits, w, h, 1, nullptr);
+      if (!m.ok || !same.ok) continue;
+      std::string file = std::string("ism-error-pullpush") + pullpush + ".png";
+      writePng8(imageDir + "/" + file, w, h, falseColourError(m.run.inscatter, same.run.inscatter, 0.02f * peak));
+      ErrorMetrics e = compareImages(m.run.inscatter, same.run.inscatter);
+      std::printf("- `pullpush=%s`: relMSE %.2e against the same VPLs: ![%s](%s)\n", pullpush, e.relmse, file.c_str(),
+                  file.c_str());
+    }
+  }
+  return 0;
+}
