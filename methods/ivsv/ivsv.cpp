@@ -90,13 +90,13 @@ std::vector<ParamSpec> IvsvMethod::params() const {
           ParamSpec::integer("ism", 64, 16, 512, "ISM tile texels per side (paraboloid over the lit hemisphere)").pow2(),
           ParamSpec::integer("pullpush", 3, 0, 9, "pull-push levels that fill the ISM's holes (0: none)"),
           ParamSpec::flag("interp", true, "interpolate visibility bilinearly in (alpha, theta) in the final gather"),
-          ParamSpec::integer("steps", 32, 1, 4096, "final-gather steps along the camera ray"),
+          ParamSpec::integer("steps", 16, 1, 4096, "final-gather steps along the camera ray, equiangular around each VPL"),
           ParamSpec::flag("jitter", true, "stratified jitter of the gather steps")};
 }
 
 std::vector<std::string> IvsvMethod::qualityLadder() const {
-  return {"lights=16:grid=64:points=1024:ism=32:steps=16", "lights=64:grid=128:points=4096:ism=64:steps=32",
-          "lights=256:grid=128:points=8192:ism=64:steps=32"};
+  return {"lights=16:grid=64:points=1024:ism=32:steps=8", "lights=64:grid=128:points=4096:ism=64:steps=16",
+          "lights=256:grid=128:points=4096:ism=64:steps=16", "lights=256:grid=128:points=8192:ism=64:steps=32"};
 }
 
 std::string IvsvMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
@@ -132,8 +132,7 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
 
   tiles_ = int(std::ceil(std::sqrt(double(count_))));
   int atlas = tiles_ * ismRes_;
-  if (atlas > context.limits.maxTextureSize || atlas > context.limits.maxViewportW ||
-      atlas > context.limits.maxViewportH)
+  if (atlas > context.limits.maxTextureSize)
     throw std::runtime_error("ivsv: ISM atlas " + std::to_string(atlas) + "^2 exceeds the GL limits");
   GLint maxLayers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
@@ -151,23 +150,21 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
 
   ism_ = gl::createTexture2D(GL_R32F, atlas, atlas, pullPushLevels_ + 1);
   gl::setFilter(ism_.id(), GL_NEAREST_MIPMAP_NEAREST, GL_NEAREST);
-  ismDepth_ = gl::createTexture2D(GL_DEPTH_COMPONENT32F, atlas, atlas);
-  ismFbo_ = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, ism_.id()}, {GL_DEPTH_ATTACHMENT, ismDepth_.id()}});
-  gl::checkFramebuffer(ismFbo_.id(), "ivsv ISM atlas");
+  splats_ = gl::createTexture2D(GL_R32UI, atlas, atlas);
+  gl::setFilter(splats_.id(), GL_NEAREST, GL_NEAREST);
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
   grids_ = gl::Texture(id);
   glTextureStorage3D(id, 1, GL_RGBA32UI, grid_, grid_, count_);
   gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
-  glCreateVertexArrays(1, &id);
-  emptyVao_ = gl::VertexArray(id);
   scan_ = std::make_unique<vsv::Scan>();
 
+  voxelizeRows_ = std::clamp(1024 / grid_, 1, 8);  // 16 KiB of shared words per workgroup
   const std::string defines = sceneDefines(context.effects) + "#define IVSV_GRID " + std::to_string(grid_) +
+                              "\n#define IVSV_ROWS " + std::to_string(voxelizeRows_) +
                               "\n#define IVSV_INTERPOLATE " + (interpolate_ ? "1" : "0") + "\n";
-  splat_ = gl::buildProgram({{GL_VERTEX_SHADER, "methods/ivsv/shaders/ism_splat.vert"},
-                             {GL_FRAGMENT_SHADER, "methods/ivsv/shaders/ism_splat.frag"}},
-                            defines);
+  splat_ = gl::buildCompute("methods/ivsv/shaders/ism_splat.comp", defines);
+  resolve_ = gl::buildCompute("methods/ivsv/shaders/ism_resolve.comp");
   pullPush_ = gl::buildCompute("methods/ivsv/shaders/pullpush.comp");
   voxelize_ = gl::buildCompute("methods/ivsv/shaders/voxelize.comp", defines);
   gather_ = gl::buildFullscreen("methods/ivsv/shaders/gather.frag", defines);
@@ -203,22 +200,20 @@ void IvsvMethod::sampleLights(const Frame& frame, PassTimer& timer) {
 void IvsvMethod::renderImperfectShadowMaps(const Frame& frame, PassTimer& timer) {
   auto scope = timer.scope(kIsm);
   int atlas = tiles_ * ismRes_;
-  const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
-  glClearNamedFramebufferfv(ismFbo_.id(), GL_COLOR, 0, zero);
-  glClearNamedFramebufferfv(ismFbo_.id(), GL_DEPTH, 0, &one);
+  // Splat: a compute scatter with atomicMin (points cost a triangle set-up each when rasterized).
+  const GLuint empty = 0xffffffffu;
+  glClearTexImage(splats_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glBindImageTexture(3, splats_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   if (frame.shadowCasters && pointsTotal_ > 0) {
-    glBindFramebuffer(GL_FRAMEBUFFER, ismFbo_.id());
-    glViewport(0, 0, atlas, atlas);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_PROGRAM_POINT_SIZE);
-    glPointSize(1.0f);
     glUseProgram(splat_.id());
-    glBindVertexArray(emptyVao_.id());
-    glDrawArrays(GL_POINTS, 0, pointsTotal_);
-    glDisable(GL_DEPTH_TEST);
+    glUniform1i(0, pointsTotal_);
+    glDispatchCompute(GLuint((pointsTotal_ + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
+  glUseProgram(resolve_.id());
+  glBindImageTexture(0, ism_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  glDispatchCompute(GLuint((atlas + 7) / 8), GLuint((atlas + 7) / 8), 1);
   // Pull up the levels, then push back down into the holes.
   glUseProgram(pullPush_.id());
   for (int pass = 0; pass < 2; ++pass) {
@@ -241,7 +236,7 @@ void IvsvMethod::voxelize(PassTimer& timer) {
     glUseProgram(voxelize_.id());
     glBindTextureUnit(bind::kFirstMethodUnit, ism_.id());
     glBindImageTexture(2, grids_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
-    glDispatchCompute(GLuint(grid_), GLuint(count_), 1);
+    glDispatchCompute(GLuint((grid_ + voxelizeRows_ - 1) / voxelizeRows_), GLuint(count_), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   }
   auto scope = timer.scope(kScan);

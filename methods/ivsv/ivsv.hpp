@@ -63,12 +63,11 @@ class IvsvMethod : public Method {
   std::vector<glm::vec3> positions_;
   glm::vec3 tangent_{1, 0, 0}, bitangent_{0, 0, 1}, normal_{0, -1, 0};
   gl::Buffer points_, lights_, ubo_;
-  gl::Texture ism_, ismDepth_, grids_;
-  gl::Framebuffer ismFbo_;
-  gl::VertexArray emptyVao_;
-  gl::Program splat_, pullPush_, voxelize_, gather_;
+  gl::Texture ism_, splats_, grids_;  // ISM levels (R32F, 0 = hole), the splat target (R32UI bits)
+  gl::Program splat_, resolve_, pullPush_, voxelize_, gather_;
   std::unique_ptr<vsv::Scan> scan_;
   int lightsPerGatherPass_ = 1;
+  int voxelizeRows_ = 1;  // theta rows per Voxelize workgroup
   GLsizei pointsTotal_ = 0;
   ivsv::Uniforms uniforms_{};
 };
