@@ -89,6 +89,7 @@ std::vector<ParamSpec> IvsvMethod::params() const {
           ParamSpec::integer("points", 4096, 16, 65536, "ISM points splatted per VPL"),
           ParamSpec::integer("ism", 64, 16, 512, "ISM tile texels per side (paraboloid over the lit hemisphere)").pow2(),
           ParamSpec::integer("pullpush", 3, 0, 9, "pull-push levels that fill the ISM's holes (0: none)"),
+          ParamSpec::real("bias", 2.0, 0.0, 16.0, "ISM depth bias along the light ray, in texel angles of the ISM"),
           ParamSpec::flag("interp", true, "interpolate visibility bilinearly in (alpha, theta) in the final gather"),
           ParamSpec::integer("steps", 16, 1, 4096, "final-gather steps along the camera ray, equiangular around each VPL"),
           ParamSpec::flag("jitter", true, "stratified jitter of the gather steps")};
@@ -115,6 +116,7 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   ismRes_ = params.getInt("ism");
   pullPushLevels_ = std::min(params.getInt("pullpush"), int(std::log2(double(ismRes_))));
   interpolate_ = params.getBool("interp");
+  bias_ = float(params.getFloat("bias"));
   steps_ = params.getInt("steps");
   jitter_ = params.getBool("jitter");
   const Light& light = context.scene.light;
@@ -161,7 +163,8 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
 
   voxelizeRows_ = std::clamp(1024 / grid_, 1, 8);  // 16 KiB of shared words per workgroup
   const std::string defines = sceneDefines(context.effects) + "#define IVSV_GRID " + std::to_string(grid_) +
-                              "\n#define IVSV_ROWS " + std::to_string(voxelizeRows_) +
+                              "\n#define IVSV_ROWS " + std::to_string(voxelizeRows_) + "\n#define IVSV_BIAS " +
+                              std::to_string(bias_) +
                               "\n#define IVSV_INTERPOLATE " + (interpolate_ ? "1" : "0") + "\n";
   splat_ = gl::buildCompute("methods/ivsv/shaders/ism_splat.comp", defines);
   resolve_ = gl::buildCompute("methods/ivsv/shaders/ism_resolve.comp");
@@ -208,7 +211,8 @@ void IvsvMethod::renderImperfectShadowMaps(const Frame& frame, PassTimer& timer)
   if (frame.shadowCasters && pointsTotal_ > 0) {
     glUseProgram(splat_.id());
     glUniform1i(0, pointsTotal_);
-    glDispatchCompute(GLuint((pointsTotal_ + 63) / 64), 1, 1);
+    GLuint groups = GLuint((pointsTotal_ + 63) / 64), x = std::min<GLuint>(groups, 65535u);
+    glDispatchCompute(x, (groups + x - 1) / x, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
   glUseProgram(resolve_.id());

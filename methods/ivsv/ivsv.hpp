@@ -57,6 +57,7 @@ class IvsvMethod : public Method {
 
   int count_ = 64, grid_ = 128, pointsPerLight_ = 4096, ismRes_ = 64, pullPushLevels_ = 3, steps_ = 64;
   bool interpolate_ = true, jitter_ = true;
+  float bias_ = 2.0f;  // ISM depth bias, texel angles
   int tiles_ = 1;          // ISM atlas: tiles_ x tiles_ tiles of ismRes_ texels
   float far_ = 1.0f;       // ISM depth range
   float minDistance_ = 1e-3f;

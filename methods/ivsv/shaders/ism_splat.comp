@@ -10,7 +10,8 @@ layout(std430, binding = 0) readonly buffer IvsvPoints { vec4 points[]; };
 layout(binding = 3, r32ui) uniform coherent uimage2D splats;
 layout(location = 0) uniform int total;
 void main() {
-  int i = int(gl_GlobalInvocationID.x);
+  // 2D dispatch: a million points need more than 65,535 workgroups along x.
+  int i = int((gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x);
   if (i >= total) return;
   int k = i / max(iv.counts.x, 1);
   if (k >= iv.dims.x) return;

@@ -26,7 +26,10 @@ void main() {
     if (dot(d, iv.normal.xyz) <= 0.0) continue;
     float stored = texelFetch(ism, ismTexel(k, paraboloid(d)), 0).r;
     if (stored <= 0.0) continue;
-    vec3 occluder = vpls[k].position.xyz + stored * iv.normal.w * d;
+    // A texel keeps the nearest point of its footprint, nearer than the surface along the bin's ray
+    // where the surface is seen at a grazing angle: push the occluder back by IVSV_BIAS texel angles.
+    float texelAngle = 2.0 / float(iv.dims.w);
+    vec3 occluder = vpls[k].position.xyz + stored * iv.normal.w * (1.0 + IVSV_BIAS * texelAngle) * d;
     float alpha = alphaOfPlane(framePlane(f, occluder - f.eye));
     int col = clamp(int(alpha / PI * float(G)), 0, G - 1);
     atomicOr(rows[(r * G + col) * 4 + bin / 32], 1u << uint(bin % 32));

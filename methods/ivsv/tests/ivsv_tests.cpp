@@ -47,8 +47,8 @@ TEST_F(IvsvTest, MatchesRaymarchOnTheSameVirtualPointLights) {
   ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
   ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
   std::printf("ivsv vs raymarch on the same 64 VPLs: L_s relMSE %.2e ssim %.4f\n", ls.relmse, ls.ssim);
-  EXPECT_LT(ls.relmse, 2e-2);
-  EXPECT_GT(ls.ssim, 0.9);
+  EXPECT_LT(ls.relmse, 5e-4);  // 6.2e-5 measured
+  EXPECT_GT(ls.ssim, 0.99);
   for (const char* pass : {"VPL Sampling", "Imperfect Shadow Maps", "Voxelize", "Scan", "Final Gather"})
     EXPECT_TRUE(run.passStats.count(pass)) << pass;
 }
@@ -69,6 +69,12 @@ TEST_F(IvsvTest, UnshadowedEqualsRaymarchWithoutOccluders) {
   ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
   std::printf("ivsv unshadowed vs raymarch: L_s relMSE %.2e\n", ls.relmse);
   EXPECT_LT(ls.relmse, 1e-3);
+}
+
+TEST_F(IvsvTest, AThousandVplsFitTheDispatchLimits) {
+  // 4M points need more than 65,535 splat workgroups along x; 1,024 grids fill the array's layers.
+  MethodRun run = renderScene(loadScene("arealight"), "ivsv:lights=1024:steps=2", 24, 18);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
 }
 
 TEST_F(IvsvTest, RefusesTwoSidedLightsAndPointLights) {
