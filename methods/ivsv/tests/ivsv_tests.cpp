@@ -77,6 +77,29 @@ TEST_F(IvsvTest, AThousandVplsFitTheDispatchLimits) {
   ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
 }
 
+TEST_F(IvsvTest, OneVplAndALightTouchingAnOccluderStayCloseToRaymarch) {
+  // One VPL (at the light's centre, a cosine-lobed point light), and a one-sided disk resting on a
+  // sphere's top: ISM points at distance ~0 from the VPLs must not blow up or black out the fog.
+  Scene touching = sceneFromJson(R"({"geometry": [
+      {"generator": "plane", "params": {"center": [0, 0, 0], "size": [10, 10]}},
+      {"generator": "sphere", "params": {"center": [0, 1.0, 0], "radius": 0.6, "segments": 32}}],
+    "camera": {"position": [0, 1.5, 6], "target": [0, 1, 0], "fov_y_deg": 55, "near": 0.05, "far": 30},
+    "light": {"type": "disk", "position": [0, 1.61, 0], "direction": [0, -1, 0.3], "radius": 0.3, "intensity": 80},
+    "medium": {"sigma_s": 0.08, "sigma_a": 0.02}})");
+  for (const auto& [scene, lights] : {std::pair<Scene, int>{loadScene("arealight"), 1}, {touching, 16}}) {
+    std::string n = std::to_string(lights);
+    MethodRun marched = renderScene(scene, "raymarch:steps=256:sampling=equiangular:sm=512:vpls=" + n, 64, 48);
+    MethodRun run = renderScene(scene, "ivsv:steps=64:lights=" + n, 64, 48);
+    ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+    ErrorMetrics ls = compareImages(run.inscatter, marched.inscatter);
+    std::printf("%d VPL(s): ivsv vs raymarch on the same VPLs: L_s relMSE %.2e\n", lights, ls.relmse);
+    // Measured: 2.6e-4 with one VPL; 1.4e-2 touching, where the sphere fills most of each VPL's
+    // hemisphere from a few centimetres and its points leave holes (README, known limits).
+    EXPECT_LT(ls.relmse, lights == 1 ? 2e-3 : 5e-2) << lights;
+    EXPECT_EQ(run.nonFinitePixels, 0u);
+  }
+}
+
 TEST_F(IvsvTest, RefusesTwoSidedLightsAndPointLights) {
   Scene scene = loadScene("arealight");
   scene.light.twoSided = true;
