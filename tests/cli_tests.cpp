@@ -102,6 +102,26 @@ const std::string& field(const CsvTable& table, const std::vector<std::string>& 
   return it == table.header().end() ? none : row[size_t(it - table.header().begin())];
 }
 
+TEST(CliTest, ShootoutRunsPointLightMethodsPerVplOnAnAreaLight) {
+  std::string dir = makeTempDir("shootout-area");
+  std::string out = dir + "/out";
+  CommandResult r = runVshadow({"shootout", "--scene", "arealight", "--size", "24x18", "--frames", "1", "--warmup", "0",
+                                "--rungs", "first", "--method", "vsv", "--method", "ivsv", "--method", "slicemap",
+                                "--out", out, "--cache", dir + "/cache", "--strict-gl", "--no-images"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  CsvTable runs = loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns);
+  std::map<std::string, std::string> status, params;
+  for (const auto& row : runs.rows()) {
+    status[field(runs, row, "method")] = field(runs, row, "status");
+    params[field(runs, row, "method")] = field(runs, row, "params");
+  }
+  EXPECT_EQ(status["vsv"], "Success");
+  EXPECT_NE(params["vsv"].find("vpls=16"), std::string::npos) << params["vsv"];
+  EXPECT_EQ(status["ivsv"], "Success");
+  EXPECT_NE(params["ivsv"].find("vpls=0"), std::string::npos) << params["ivsv"];  // area lights natively
+  EXPECT_EQ(status["slicemap"], "Unsupported");  // its setup fits one light position
+}
+
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   std::string dir = makeTempDir("shootout");
   std::string out = dir + "/out";
