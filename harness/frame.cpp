@@ -36,7 +36,8 @@ std::string sceneDefines(const Effects& effects) {
          std::to_string(effects.volumeData ? effects.volumeCount : 0) + "\n#define VS_LIGHT_TYPE " +
          std::to_string(lightTypeCode(effects.light)) + "\n#define VS_LIGHT_TEXTURE " +
          std::to_string(effects.lightTexture ? 1 : 0) + "\n#define VS_HG_PHASE " +
-         std::to_string(effects.anisotropic ? 1 : 0) + "\n";
+         std::to_string(effects.anisotropic ? 1 : 0) + "\n#define VS_COSINE_LOBE " +
+         std::to_string(effects.cosineLobe || isAreaLight(effects.light) ? 1 : 0) + "\n";
 }
 
 glm::mat4 cubeFaceViewProj(const glm::vec3& position, int face, float nearZ, float farZ) {

@@ -68,7 +68,11 @@ float areaEmission(vec3 d) {
   float c = dot(d, u.lightDir.xyz);
   return u.lightEmission.y > 0.5 ? abs(c) : max(c, 0.0);
 }
+#ifdef VS_COSINE_LOBE
+bool cosineLobe() { return VS_COSINE_LOBE != 0; }
+#else
 bool cosineLobe() { return u.lightEmission.x > 0.5; }
+#endif
 float sigmaT() { return u.medium.z; }
 
 // Phase function of the angle between the light's travel direction and the direction to the eye.
@@ -103,22 +107,27 @@ vec3 lightTextureAt(vec3 x) {
   return textureLod(lightTexture, st, 0.0).rgb;
 }
 
-// L_in(x) without visibility: point/spot I * T * exp(-sigma_t r) / r^2 (spot cone falloff);
-// directional E * T, no extinction along light rays.
-vec3 lightIncident(vec3 x) {
-  int type = lightType();
-  if (type == LIGHT_DIRECTIONAL) return u.lightColor.rgb * lightTextureAt(x);
-  vec3 d = x - u.lightPos.xyz;
-  float r2 = max(dot(d, d), 1e-12);
-  float r = sqrt(r2);
-  vec3 L = u.lightColor.rgb * (exp(-sigmaT() * r) / r2);
-  if (cosineLobe()) L *= areaEmission(d / r);
-  if (type == LIGHT_SPOT) {
-    float c = dot(d / r, u.lightDir.xyz);
+// What a point or spot light sends towards x, before distance falloff and extinction: its colour,
+// cosine lobe, spot cone and light texture. l: unit direction from the light to x.
+vec3 lightEmitted(vec3 x, vec3 l) {
+  vec3 L = u.lightColor.rgb;
+  if (cosineLobe()) L *= areaEmission(l);
+  if (lightType() == LIGHT_SPOT) {
+    float c = dot(l, u.lightDir.xyz);
     float cosOuter = u.lightDir.w, cosInner = u.lightColor.w;
     L *= clamp((c - cosOuter) / max(cosInner - cosOuter, 1e-6), 0.0, 1.0);
   }
   return L * lightTextureAt(x);
+}
+
+// L_in(x) without visibility: point/spot I * T * exp(-sigma_t r) / r^2 (spot cone falloff);
+// directional E * T, no extinction along light rays.
+vec3 lightIncident(vec3 x) {
+  if (lightType() == LIGHT_DIRECTIONAL) return u.lightColor.rgb * lightTextureAt(x);
+  vec3 d = x - u.lightPos.xyz;
+  float r2 = max(dot(d, d), 1e-12);
+  float r = sqrt(r2);
+  return lightEmitted(x, d / r) * (exp(-sigmaT() * r) / r2);
 }
 
 // Depth that the cube face looking along the major axis of d stores for a point at offset d.

@@ -52,3 +52,17 @@ void marchSample(March m, int i, out float s, out float weight) {
     weight = m.dist / float(m.n);
   }
 }
+
+// The unshadowed integrand of sample (s, weight) at x = eye + s dir:
+// weight sigma_s exp(-sigma_t s) rho(cos theta) L_in(x). Under equiangular sampling the weight's r^2
+// cancels L_in's 1/r^2 and the two extinctions share one exp.
+vec3 marchInscatter(March m, vec3 x, vec3 dir, float s, float weight) {
+  if (kMarchAngular) {
+    vec3 d = x - u.lightPos.xyz;
+    float r = length(d);
+    vec3 l = r > 1e-20 ? d / r : u.lightDir.xyz;
+    float angularWeight = (m.thetaB - m.thetaA) / (m.D * float(m.n));
+    return angularWeight * sigmaS() * exp(-sigmaT() * (s + r)) * phase(dot(l, -dir)) * lightEmitted(x, l);
+  }
+  return weight * sigmaS() * exp(-sigmaT() * s) * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x);
+}

@@ -87,7 +87,7 @@ void main() {
 #elif AREA_SAMPLES > 0
     sum += weight * sigmaS() * exp(-sigmaT() * s) * areaLightInscatter(x, dir);
 #else
-    sum += weight * sigmaS() * exp(-sigmaT() * s) * visibility * phase(cosTheta) * lightIncident(x);
+    sum += visibility * marchInscatter(m, x, dir, s, weight);
 #endif
   }
 #if VS_VOLUMES > 0
