@@ -1,5 +1,10 @@
 // The project's method registry, and shorthands that use it for programs and tests.
 #pragma once
+#include <algorithm>
+#include <functional>
+#include <string>
+#include <vector>
+
 #include "harness/method.hpp"
 #include "harness/runner.hpp"
 
@@ -29,6 +34,31 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   options.timer = TimerStrategy::WallClock;
   Runner runner(scene, limits, options);
   return runSpec(runner, limits, spec);
+}
+// A figure measured in several rounds: the median of the rounds and their range.
+struct Spread {
+  double median = 0, lo = 0, hi = 0;
+};
+// Runs every spec `rounds` times in turn (A B C, A B C, ...) so that each sees the same machine,
+// and gives per spec the spread of figure(run) over the rounds (zeros for a spec that fails).
+inline std::vector<Spread> measureInterleaved(const Scene& scene, const std::vector<std::string>& specs,
+                                              const gl::Limits& limits, int width, int height, int frames, int rounds,
+                                              const std::function<double(const MethodRun&)>& figure) {
+  std::vector<std::vector<double>> values(specs.size());
+  for (int round = 0; round < rounds; ++round)
+    for (size_t i = 0; i < specs.size(); ++i) {
+      MethodRun run = benchmarkSpec(scene, specs[i], limits, width, height, frames);
+      if (run.status == RunStatus::Success) values[i].push_back(figure(run));
+    }
+  std::vector<Spread> out(specs.size());
+  for (size_t i = 0; i < specs.size(); ++i) {
+    std::vector<double>& v = values[i];
+    if (v.empty()) continue;
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    out[i] = {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
+  }
+  return out;
 }
 inline Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
                                  int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "") {

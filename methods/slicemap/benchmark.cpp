@@ -4,7 +4,8 @@
 // change, the two lookups, the opaque built-in scenes against every method, and L_s at equal error
 // against the brute-force march with exact layered transmittance. Prints Markdown
 // (results/slicemap/README.md is this output); not a test.
-// Usage: slicemap_benchmark [--quick]   (--quick: small images, for a smoke run)
+// Usage: slicemap_benchmark [--quick] [--equal-quality]
+//   --quick: small images, for a smoke run; --equal-quality: only the equal-error table
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +34,13 @@ struct Measured {
   bool ok = false;
 };
 
+// The method's own passes without Shading (raymarch: Ray Marching).
+double scatterMs(const MethodRun& run) {
+  double ms = run.passMs("Ray Marching");
+  for (const char* pass : kOwnPasses) ms += run.passMs(pass);
+  return ms;
+}
+
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
   Measured m;
@@ -42,8 +50,7 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
     return m;
   }
   m.ok = true;
-  for (const char* pass : kOwnPasses) m.scatterMs += m.run.passMs(pass);
-  m.scatterMs += m.run.passMs("Ray Marching");
+  m.scatterMs = scatterMs(m.run);
   if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
   return m;
 }
@@ -100,10 +107,14 @@ int stepsForError(double target, std::map<int, double>& errorAt, const std::func
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-  if (argc > 1 && !quick) {
-    std::fprintf(stderr, "usage: slicemap_benchmark [--quick]\n");
-    return 2;
+  bool quick = false, equalOnly = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+    else if (std::strcmp(argv[i], "--equal-quality") == 0) equalOnly = true;
+    else {
+      std::fprintf(stderr, "usage: slicemap_benchmark [--quick] [--equal-quality]\n");
+      return 2;
+    }
   }
   int w = quick ? 96 : 256, h = quick ? 72 : 192;
   int side = quick ? 128 : 512;
@@ -119,150 +130,160 @@ int main(int argc, char** argv) {
               "  the shared passes (Shadow Map, Transmittance Map, G Buffer, Direct Lighting, Composite) and slicemap's\n"
               "  Shading are listed apart\n\n");
 
-  // ---- 1. Table 1
   Scene foliage = loadScene("foliage");
   Scene chestnut = treeScene(quick ? 8000 : 80000, 0.12, kPointLight);
-  std::printf("## Table 1: transmittance shadow maps, %dx%d, %d² slicemaps\n\n", side, side, side);
-  std::printf("Eisemann & Decoret report for a chestnut tree of 160,653 polygons (1,493 opaque), 512², on a GeForce 6800 "
-              "(frame rate; in brackets per pass: opaque map / near-far maps / slicemap / shading):\n\n"
-              "| | SSM | 1 MRT | 2 MRT | 3 MRT |\n|---|---|---|---|---|\n"
-              "| uniform | 128 Hz | 60 Hz (<1 / - / 2 / 14 ms) | 50 Hz (<1 / - / 4 / 16 ms) | 40 Hz (<1 / - / 7 / 18 ms) |\n"
-              "| local | | 37 Hz (<1 / 3 / 7 / 20 ms) | 29 Hz (<1 / 3 / 9 / 28 ms) | 24 Hz (<1 / 3 / 14 / 32 ms) |\n\n");
-  std::printf("Ours: one MRT is one RGBA32UI target of 128 slices (theirs: RGBA8, 32 slices). SSM is the shared passes "
-              "alone (Shadow Map + G Buffer + Direct Lighting + Composite, no transmittance); TSM adds Near/Far Maps, "
-              "Slicemap and Shading. The scattering march (not in the paper) is listed apart and left out of the "
-              "frame rates. The paper's points are lit by one point light; so are these.\n\n");
-  std::printf("| scene | triangles (opaque) | slicing | targets | slices | Shadow Map | Near/Far Maps | Slicemap | Shading | SSM frame | TSM frame | TSM Hz | Scattering |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (auto* entry : {&foliage, &chestnut}) {
-    const Scene& scene = *entry;
-    const char* name = entry == &foliage ? "foliage" : "chestnut (ours)";
+  if (!equalOnly) {
+    // ---- 1. Table 1
+    std::printf("## Table 1: transmittance shadow maps, %dx%d, %d² slicemaps\n\n", side, side, side);
+    std::printf("Eisemann & Decoret report for a chestnut tree of 160,653 polygons (1,493 opaque), 512², on a GeForce 6800 "
+                "(frame rate; in brackets per pass: opaque map / near-far maps / slicemap / shading):\n\n"
+                "| | SSM | 1 MRT | 2 MRT | 3 MRT |\n|---|---|---|---|---|\n"
+                "| uniform | 128 Hz | 60 Hz (<1 / - / 2 / 14 ms) | 50 Hz (<1 / - / 4 / 16 ms) | 40 Hz (<1 / - / 7 / 18 ms) |\n"
+                "| local | | 37 Hz (<1 / 3 / 7 / 20 ms) | 29 Hz (<1 / 3 / 9 / 28 ms) | 24 Hz (<1 / 3 / 14 / 32 ms) |\n\n");
+    std::printf("Ours: one MRT is one RGBA32UI target of 128 slices (theirs: RGBA8, 32 slices). SSM is the shared passes "
+                "alone (Shadow Map + G Buffer + Direct Lighting + Composite, no transmittance); TSM adds Near/Far Maps, "
+                "Slicemap and Shading. The scattering march (not in the paper) is listed apart and left out of the "
+                "frame rates. The paper's points are lit by one point light; so are these.\n\n");
+    std::printf("| scene | triangles (opaque) | slicing | targets | slices | Shadow Map | Near/Far Maps | Slicemap | Shading | SSM frame | TSM frame | TSM Hz | Scattering |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (auto* entry : {&foliage, &chestnut}) {
+      const Scene& scene = *entry;
+      const char* name = entry == &foliage ? "foliage" : "chestnut (ours)";
+      for (const char* slicing : {"uniform", "local"})
+        for (int targets : {1, 2, 3, 4, 8}) {
+          // The paper's transmittance shadow maps: opaque occluders in the shadow map, the leaves alone in the slicemap.
+          std::string spec = "slicemap:res=512:steps=64:opaque=shadowmap:pack=0:slicing=" + std::string(slicing) +
+                             ":targets=" + std::to_string(targets);
+          Measured m = measure(scene, spec, limits, side, side, frames, nullptr);
+          if (!m.ok) continue;
+          const MethodRun& r = m.run;
+          double ssm = r.passMs("Shadow Map") + r.passMs("G Buffer") + r.passMs("Direct Lighting") + r.passMs("Composite");
+          double tsm = ssm + r.passMs("Near/Far Maps") + r.passMs("Slicemap") + r.passMs("Shading");
+          std::printf("| %s | %zu (%zu) | %s | %d | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", name,
+                      triangles(scene, false) + triangles(scene, true), triangles(scene, true), slicing, targets,
+                      128 * targets, r.passMs("Shadow Map"), r.passMs("Near/Far Maps"), r.passMs("Slicemap"),
+                      r.passMs("Shading"), ssm, tsm, 1000.0 / std::max(tsm, 1e-9), r.passMs("Scattering"));
+          std::fflush(stdout);
+        }
+    }
+
+    // ---- 2. Voxelization throughput
+    std::printf("\n## Voxelization throughput\n\n");
+    std::printf("The paper: 1,124,571 triangles into 512×512×96 at 70 Hz uniform, 60 Hz local (≈ 79 M triangles/s, "
+                "1.8 G voxels/s). Here: a tree of leaf cards under a directional light (one view), the Slicemap pass "
+                "alone (Near/Far Maps beside it).\n\n");
+    std::printf("| triangles | slicing | slices | Near/Far Maps ms | Slicemap ms | triangles/s | voxels/s |\n|---|---|---|---|---|---|---|\n");
+    Scene big = treeScene(quick ? 20000 : 562286, 0.08, kSun);
     for (const char* slicing : {"uniform", "local"})
-      for (int targets : {1, 2, 3, 4, 8}) {
-        // The paper's transmittance shadow maps: opaque occluders in the shadow map, the leaves alone in the slicemap.
-        std::string spec = "slicemap:res=512:steps=64:opaque=shadowmap:pack=0:slicing=" + std::string(slicing) +
-                           ":targets=" + std::to_string(targets);
-        Measured m = measure(scene, spec, limits, side, side, frames, nullptr);
+      for (int targets : {1, 8}) {
+        std::string spec = "slicemap:res=512:steps=1:surface=0:slicing=" + std::string(slicing) + ":targets=" + std::to_string(targets);
+        Measured m = measure(big, spec, limits, 64, 48, frames, nullptr);
         if (!m.ok) continue;
-        const MethodRun& r = m.run;
-        double ssm = r.passMs("Shadow Map") + r.passMs("G Buffer") + r.passMs("Direct Lighting") + r.passMs("Composite");
-        double tsm = ssm + r.passMs("Near/Far Maps") + r.passMs("Slicemap") + r.passMs("Shading");
-        std::printf("| %s | %zu (%zu) | %s | %d | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", name,
-                    triangles(scene, false) + triangles(scene, true), triangles(scene, true), slicing, targets,
-                    128 * targets, r.passMs("Shadow Map"), r.passMs("Near/Far Maps"), r.passMs("Slicemap"),
-                    r.passMs("Shading"), ssm, tsm, 1000.0 / std::max(tsm, 1e-9), r.passMs("Scattering"));
+        std::printf("| %.0f | %s | %d | %.1f | %.1f | %.3g | %.3g |\n", stat(m.run, "slicemap_triangles"), slicing, 128 * targets,
+                    m.run.passMs("Near/Far Maps"), m.run.passMs("Slicemap"), stat(m.run, "slicemap_triangles_per_s"),
+                    stat(m.run, "slicemap_voxels_per_s"));
         std::fflush(stdout);
       }
-  }
 
-  // ---- 2. Voxelization throughput
-  std::printf("\n## Voxelization throughput\n\n");
-  std::printf("The paper: 1,124,571 triangles into 512×512×96 at 70 Hz uniform, 60 Hz local (≈ 79 M triangles/s, "
-              "1.8 G voxels/s). Here: a tree of leaf cards under a directional light (one view), the Slicemap pass "
-              "alone (Near/Far Maps beside it).\n\n");
-  std::printf("| triangles | slicing | slices | Near/Far Maps ms | Slicemap ms | triangles/s | voxels/s |\n|---|---|---|---|---|---|---|\n");
-  Scene big = treeScene(quick ? 20000 : 562286, 0.08, kSun);
-  for (const char* slicing : {"uniform", "local"})
-    for (int targets : {1, 8}) {
-      std::string spec = "slicemap:res=512:steps=1:surface=0:slicing=" + std::string(slicing) + ":targets=" + std::to_string(targets);
-      Measured m = measure(big, spec, limits, 64, 48, frames, nullptr);
-      if (!m.ok) continue;
-      std::printf("| %.0f | %s | %d | %.1f | %.1f | %.3g | %.3g |\n", stat(m.run, "slicemap_triangles"), slicing, 128 * targets,
-                  m.run.passMs("Near/Far Maps"), m.run.passMs("Slicemap"), stat(m.run, "slicemap_triangles_per_s"),
-                  stat(m.run, "slicemap_voxels_per_s"));
-      std::fflush(stdout);
+    // ---- 3. Error against the exact ground truth
+    int gw = quick ? 32 : 96, gh = quick ? 24 : 72;
+    std::printf("\n## Error against the exact ground truth, foliage, %dx%d\n\n", gw, gh);
+    std::printf("Ground truth: Embree any-hit transmittance through every leaf, double precision, 1024 steps. Each row "
+                "changes one parameter from res=512, targets=1, slicing=uniform; steps=1024 so that the march's own noise "
+                "stays below the slicemap's error; pack=0 (each class its own targets). L is the final image (surfaces through Shading).\n\n");
+    GroundTruthOptions gtOptions;
+    gtOptions.width = gw;
+    gtOptions.height = gh;
+    gtOptions.steps = 1024;
+    GroundTruth gt = renderGroundTruth(foliage, gtOptions);
+    std::printf("| parameter | value | L_s relMSE | L relMSE |\n|---|---|---|---|\n");
+    struct Knob {
+      const char* key;
+      std::vector<const char*> values;
+    };
+    for (const Knob& knob : std::vector<Knob>{{"targets", {"1", "2", "4", "8"}},
+                                               {"slicing", {"uniform", "local"}},
+                                               {"res", {"64", "128", "256", "512", "1024"}}}) {
+      for (const char* value : knob.values) {
+        std::string spec = std::string("slicemap:steps=1024:pack=0:") + knob.key + "=" + value;
+        MethodRun r = benchmarkSpec(foliage, spec, limits, gw, gh, 1);
+        if (r.status != RunStatus::Success) continue;
+        std::printf("| %s | %s | %.3e | %.3e |\n", knob.key, value, compareImages(r.inscatter, gt.inscatter).relmse,
+                    compareImages(r.final, gt.final).relmse);
+        std::fflush(stdout);
+      }
+    }
+    MethodRun exactMarch = benchmarkSpec(foliage, "raymarch:steps=1024", limits, gw, gh, 1);
+    std::printf("| raymarch (transmittance map) | steps=1024 | %.3e | %.3e |\n",
+                compareImages(exactMarch.inscatter, gt.inscatter).relmse, compareImages(exactMarch.final, gt.final).relmse);
+
+    // ---- 4. Lookups
+    std::printf("\n## Counting the bits in front: scan (the paper) or prefix counts (ours), foliage %dx%d, 128 steps\n\n", w, h);
+    std::printf("| targets | slices | lookup | Prefix Counts ms | Scattering ms |\n|---|---|---|---|---|\n");
+    for (int targets : {1, 2, 4, 8})
+      for (const char* lookup : {"scan", "prefix"}) {
+        Measured m = measure(foliage, "slicemap:steps=128:pack=0:targets=" + std::to_string(targets) + ":lookup=" + lookup, limits,
+                             w, h, frames, nullptr);
+        if (!m.ok) continue;
+        std::printf("| %d | %d | %s | %.1f | %.1f |\n", targets, 128 * targets, lookup, m.run.passMs("Prefix Counts"),
+                    m.run.passMs("Scattering"));
+        std::fflush(stdout);
+      }
+
+    // ---- 5. Opaque scenes, every method at its defaults
+    std::printf("\n## Opaque built-in scenes: every method at its defaults, %dx%d\n\n", w / 2, h / 2);
+    std::printf("L_s relMSE against the ray-marched reference (raymarch steps=4096, equiangular, sm=2048) and scattering "
+                "time (the method's own passes). slicemap voxelizes the opaque occluders (opaque=auto).\n\n");
+    std::printf("| scene | method | L_s relMSE | scattering ms |\n|---|---|---|---|\n");
+    for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
+      Scene scene = loadScene(name);
+      Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", limits, w / 2, h / 2, 1, nullptr);
+      if (!ref.ok) continue;
+      for (const auto& info : registeredMethods()) {
+        MethodRun r = benchmarkSpec(scene, info.name + ":sm=2048", limits, w / 2, h / 2, frames);
+        if (r.status != RunStatus::Success) continue;
+        double ms = 0.0;
+        for (const auto& pass : r.passes)
+          if (!isSharedPass(pass)) ms += r.passMs(pass);
+        std::printf("| %s | %s | %.2e | %.1f |\n", name, info.name.c_str(), compareImages(r.inscatter, ref.run.inscatter).relmse, ms);
+        std::fflush(stdout);
+      }
     }
 
-  // ---- 3. Error against the exact ground truth
-  int gw = quick ? 32 : 96, gh = quick ? 24 : 72;
-  std::printf("\n## Error against the exact ground truth, foliage, %dx%d\n\n", gw, gh);
-  std::printf("Ground truth: Embree any-hit transmittance through every leaf, double precision, 1024 steps. Each row "
-              "changes one parameter from res=512, targets=1, slicing=uniform; steps=1024 so that the march's own noise "
-              "stays below the slicemap's error; pack=0 (each class its own targets). L is the final image (surfaces through Shading).\n\n");
-  GroundTruthOptions gtOptions;
-  gtOptions.width = gw;
-  gtOptions.height = gh;
-  gtOptions.steps = 1024;
-  GroundTruth gt = renderGroundTruth(foliage, gtOptions);
-  std::printf("| parameter | value | L_s relMSE | L relMSE |\n|---|---|---|---|\n");
-  struct Knob {
-    const char* key;
-    std::vector<const char*> values;
-  };
-  for (const Knob& knob : std::vector<Knob>{{"targets", {"1", "2", "4", "8"}},
-                                             {"slicing", {"uniform", "local"}},
-                                             {"res", {"64", "128", "256", "512", "1024"}}}) {
-    for (const char* value : knob.values) {
-      std::string spec = std::string("slicemap:steps=1024:pack=0:") + knob.key + "=" + value;
-      MethodRun r = benchmarkSpec(foliage, spec, limits, gw, gh, 1);
-      if (r.status != RunStatus::Success) continue;
-      std::printf("| %s | %s | %.3e | %.3e |\n", knob.key, value, compareImages(r.inscatter, gt.inscatter).relmse,
-                  compareImages(r.final, gt.final).relmse);
-      std::fflush(stdout);
-    }
-  }
-  MethodRun exactMarch = benchmarkSpec(foliage, "raymarch:steps=1024", limits, gw, gh, 1);
-  std::printf("| raymarch (transmittance map) | steps=1024 | %.3e | %.3e |\n",
-              compareImages(exactMarch.inscatter, gt.inscatter).relmse, compareImages(exactMarch.final, gt.final).relmse);
-
-  // ---- 4. Lookups
-  std::printf("\n## Counting the bits in front: scan (the paper) or prefix counts (ours), foliage %dx%d, 128 steps\n\n", w, h);
-  std::printf("| targets | slices | lookup | Prefix Counts ms | Scattering ms |\n|---|---|---|---|---|\n");
-  for (int targets : {1, 2, 4, 8})
-    for (const char* lookup : {"scan", "prefix"}) {
-      Measured m = measure(foliage, "slicemap:steps=128:pack=0:targets=" + std::to_string(targets) + ":lookup=" + lookup, limits,
-                           w, h, frames, nullptr);
-      if (!m.ok) continue;
-      std::printf("| %d | %d | %s | %.1f | %.1f |\n", targets, 128 * targets, lookup, m.run.passMs("Prefix Counts"),
-                  m.run.passMs("Scattering"));
-      std::fflush(stdout);
-    }
-
-  // ---- 5. Opaque scenes, every method at its defaults
-  std::printf("\n## Opaque built-in scenes: every method at its defaults, %dx%d\n\n", w / 2, h / 2);
-  std::printf("L_s relMSE against the ray-marched reference (raymarch steps=4096, equiangular, sm=2048) and scattering "
-              "time (the method's own passes). slicemap voxelizes the opaque occluders (opaque=auto).\n\n");
-  std::printf("| scene | method | L_s relMSE | scattering ms |\n|---|---|---|---|\n");
-  for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
-    Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", limits, w / 2, h / 2, 1, nullptr);
-    if (!ref.ok) continue;
-    for (const auto& info : registeredMethods()) {
-      MethodRun r = benchmarkSpec(scene, info.name + ":sm=2048", limits, w / 2, h / 2, frames);
-      if (r.status != RunStatus::Success) continue;
-      double ms = 0.0;
-      for (const auto& pass : r.passes)
-        if (!isSharedPass(pass)) ms += r.passMs(pass);
-      std::printf("| %s | %s | %.2e | %.1f |\n", name, info.name.c_str(), compareImages(r.inscatter, ref.run.inscatter).relmse, ms);
-      std::fflush(stdout);
-    }
   }
 
   // ---- 6. Equal L_s error
+  int rounds = quick ? 1 : 3;
   std::printf("\n## Equal L_s error against the brute-force march with exact layered transmittance, %dx%d\n\n", w, h);
   std::printf("Reference: raymarch steps=4096, equiangular. Baseline: raymarch (the reference estimator: the transmittance "
               "map's exact product over every crossing) at fewer steps, uniform and equiangular, its step count bisected "
               "in log(steps) until its L_s relMSE is at most slicemap's; the speedup is against the faster of the two. "
-              "The Transmittance Map (shared, %s) and slicemap's Shading are not counted.\n\n",
-              "built for every method");
-  std::printf("| scene | slicemap params | relMSE | ms | uniform steps | ms | equiangular steps | ms | speedup |\n"
-              "|---|---|---|---|---|---|---|---|---|\n");
+              "The Transmittance Map (shared, built for every method) and slicemap's Shading are not counted. "
+              "Times: each row's three runs measured in turn, %d rounds of %d frames; the median of the rounds, their "
+              "range in brackets, and the speedup's range from the rounds' extremes.\n\n",
+              rounds, frames);
+  std::printf("| scene | slicemap params | relMSE | ms | uniform steps | ms | equiangular steps | ms | speedup | range |\n"
+              "|---|---|---|---|---|---|---|---|---|---|\n");
+  auto formatSpread = [](const Spread& t) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.1f (%.1f–%.1f)", t.median, t.lo, t.hi);
+    return std::string(text);
+  };
   for (auto* entry : {&foliage, &chestnut}) {
     const Scene& scene = *entry;
     const char* name = entry == &foliage ? "foliage" : "chestnut";
     Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 1, nullptr);
     if (!ref.ok) return 1;
     std::map<std::string, std::map<int, double>> errorAt;
-    std::map<std::string, std::map<int, double>> msAt;
     std::vector<const char*> settings = {"steps=32", "steps=64", "", "steps=256", "res=256", "res=256:steps=64",
                                          "opaque=shadowmap:pack=0", "equiangular=0"};
     if (entry == &chestnut) settings = {""};
     for (const char* params : settings) {
       std::string spec = std::string("slicemap") + (*params ? ":" : "") + params;
-      Measured m = measure(scene, spec, limits, w, h, frames, &ref.run.inscatter);
+      Measured m = measure(scene, spec, limits, w, h, 1, &ref.run.inscatter);
       if (!m.ok) continue;
-      double best = 0.0;
-      std::string cells;
+      std::vector<std::string> specs = {spec};
+      std::vector<int> stepsFound;
       for (const char* sampling : {"uniform", "equiangular"}) {
         auto evaluate = [&](int steps) {
           Measured b = measure(scene, "raymarch:steps=" + std::to_string(steps) + ":sampling=" + sampling, limits, w, h, 1,
@@ -270,21 +291,25 @@ int main(int argc, char** argv) {
           return b.ok ? b.relmse : 1e30;
         };
         int steps = stepsForError(m.relmse, errorAt[sampling], evaluate);
-        if (steps == 0) {
-          cells += "| > 4096 | ";
+        stepsFound.push_back(steps);
+        if (steps > 0) specs.push_back("raymarch:steps=" + std::to_string(steps) + ":sampling=" + sampling);
+      }
+      std::vector<Spread> ms = measureInterleaved(scene, specs, limits, w, h, frames, rounds, scatterMs);
+      std::string cells;
+      Spread best;
+      for (size_t k = 0, next = 1; k < stepsFound.size(); ++k) {
+        if (stepsFound[k] == 0) {
+          cells += "| > 4096 | | ";
           continue;
         }
-        auto& ms = msAt[sampling];
-        if (!ms.count(steps))
-          ms[steps] = measure(scene, "raymarch:steps=" + std::to_string(steps) + ":sampling=" + sampling, limits, w, h, frames,
-                              nullptr).scatterMs;
-        char cell[64];
-        std::snprintf(cell, sizeof cell, "| %d | %.1f ", steps, ms[steps]);
-        cells += cell;
-        best = best == 0.0 ? ms[steps] : std::min(best, ms[steps]);
+        const Spread& t = ms[next++];
+        cells += "| " + std::to_string(stepsFound[k]) + " | " + formatSpread(t) + " ";
+        if (best.median == 0.0 || t.median < best.median) best = t;
       }
-      std::printf("| %s | %s | %.2e | %.1f %s| %.2fx |\n", name, *params ? params : "defaults", m.relmse, m.scatterMs,
-                  cells.c_str(), best / std::max(m.scatterMs, 1e-9));
+      const Spread& own = ms[0];
+      std::printf("| %s | %s | %.2e | %s %s| %.2fx | %.2f–%.2fx |\n", name, *params ? params : "defaults", m.relmse,
+                  formatSpread(own).c_str(), cells.c_str(), best.median / std::max(own.median, 1e-9),
+                  best.lo / std::max(own.hi, 1e-9), best.hi / std::max(own.lo, 1e-9));
       std::fflush(stdout);
     }
   }

@@ -34,7 +34,7 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
   auto classOf = [&](glm::vec3 t) -> ColorClass& {
     for (auto& c : classes)
       if (glm::all(glm::lessThan(glm::abs(c.transmittance - t), glm::vec3(1e-3f)))) return c;
-    classes.push_back({t, false, {}});
+    classes.push_back({t, false, false, {}});
     return classes.back();
   };
   problem.clear();
@@ -55,7 +55,9 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
       return {};
     }
     // A MASK texel that stays is opaque: its crossing passes the transmittance colour.
-    classOf(mesh.alphaTexture >= 0 ? mesh.transmittanceColor : mesh.crossingTransmittance()).meshes.push_back(int(i));
+    ColorClass& c = classOf(mesh.alphaTexture >= 0 ? mesh.transmittanceColor : mesh.crossingTransmittance());
+    c.translucentMeshes = true;
+    c.meshes.push_back(int(i));
   }
   if (classes.size() > size_t(kMaxClasses)) {
     problem = "the occluders have " + std::to_string(classes.size()) + " different transmittances; at most " +
@@ -259,12 +261,16 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
       }
   }
 
+  bool grey = std::all_of(classes_.begin(), classes_.end(), [](const slicemap::ColorClass& c) {
+    return c.transmittance.r == c.transmittance.g && c.transmittance.g == c.transmittance.b;
+  });
   std::string defines = sceneDefines(context.effects) + "#define SLICEMAP_CLASSES " + std::to_string(classes) +
                         "\n#define SLICEMAP_TARGETS " + std::to_string(targets_) + "\n#define SLICEMAP_LOCAL " +
                         (local_ ? "1" : "0") + "\n#define SLICEMAP_PREFIX " + (prefix_ ? "1" : "0") +
                         "\n#define SLICEMAP_OPAQUE_IN_SLICES " + (opaqueInSlices_ ? "1" : "0") +
                         "\n#define SLICEMAP_CUBE " + (faces_ == 6 ? "1" : "0") + "\n#define SLICEMAP_PACKED " +
-                        (packed_ ? "1" : "0") + "\n#define SLICEMAP_CLASS_WORDS " + std::to_string(wordsPerClass()) + "\n";
+                        (packed_ ? "1" : "0") + "\n#define SLICEMAP_CLASS_WORDS " + std::to_string(wordsPerClass()) +
+                        "\n#define SLICEMAP_GREY " + (grey ? "1" : "0") + "\n";
   const gl::ShaderStage vertex{GL_VERTEX_SHADER, "harness/shaders/transmittance.vert"};
   if (classes > 0) {
     voxelizeProgram_ = gl::buildProgram({vertex, {GL_FRAGMENT_SHADER, "methods/slicemap/shaders/voxelize.frag"}}, defines);
@@ -292,6 +298,8 @@ void SlicemapMethod::voxelize(const Frame& frame, PassTimer& timer) {
       glUniform1i(6, 1);
       geometry_->drawOpaque();
     }
+    // The semi-transparent meshes draw for the classes that hold any (their fragments pick theirs).
+    if (!classes_[size_t(c)].translucentMeshes) return;
     glUniform1i(6, 0);
     geometry_->drawTranslucent();
   };

@@ -20,6 +20,7 @@ constexpr int kMaxClasses = 4;
 struct ColorClass {
   glm::vec3 transmittance{0.0f};
   bool opaqueMeshes = false;  // the scene's opaque meshes belong to this class
+  bool translucentMeshes = false;  // and semi-transparent ones
   std::vector<int> meshes;    // indices into Scene::meshes
 };
 

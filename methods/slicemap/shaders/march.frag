@@ -24,7 +24,7 @@ void main() {
     marchSample(m, i, s, weight);
     vec3 x = eye + dir * s;
     vec3 visibility = slicemapVisibility(x);
-    sum += weight * sigmaS() * exp(-sigmaT() * s) * visibility * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x);
+    sum += visibility * marchInscatter(m, x, dir, s, weight);
   }
   // Added to the target (cleared to alpha 1: no volume data on the camera ray).
   outInscatter = vec4(all(lessThan(abs(sum), vec3(3.0e38))) ? sum : vec3(0.0), 0.0);

@@ -1,7 +1,8 @@
 // The slicemap seen from the lookups: which column and slice a point falls in, and the light's
 // transmittance there from the bits set in front of it. Mirrors SlicemapUniforms (slicemap.cpp).
 // Defines from the method: SLICEMAP_CLASSES, SLICEMAP_TARGETS, SLICEMAP_LOCAL, SLICEMAP_PREFIX,
-// SLICEMAP_OPAQUE_IN_SLICES, SLICEMAP_CUBE, SLICEMAP_PACKED, SLICEMAP_CLASS_WORDS.
+// SLICEMAP_OPAQUE_IN_SLICES, SLICEMAP_CUBE, SLICEMAP_PACKED, SLICEMAP_CLASS_WORDS, SLICEMAP_GREY (every
+// class's transmittance is grey: one channel is counted and exponentiated).
 layout(std140, binding = 4) uniform SlicemapBlock {
   mat4 faceViewProj[6];
   vec4 params;  // resolution, faces, slices, classes
@@ -103,31 +104,42 @@ vec3 slicemapTransmittance(vec3 x, float biasSlices, float biasDepth) {
   float depth = slicemapDepth(x) - biasDepth;
   float slices = slicemap.params.z;
   // log2 of the transmittance: the classes' crossings in front of x, one exp2 at the end.
-  vec3 opticalDepth = vec3(0.0);
+#if SLICEMAP_GREY
+#define SLICEMAP_CHANNELS float
+#define SLICEMAP_LOG2T(c) slicemap.classLog2Transmittance[c].r
+#else
+#define SLICEMAP_CHANNELS vec3
+#define SLICEMAP_LOG2T(c) slicemap.classLog2Transmittance[c].rgb
+#endif
+  SLICEMAP_CHANNELS opticalDepth = SLICEMAP_CHANNELS(0.0);
 #if SLICEMAP_PACKED
-  // Every class's words in the same targets: each target is fetched once for all classes.
+  // Every class's words in the same targets: each target is fetched once for all classes, and each
+  // word is masked and counted once, for the class that owns it (word j: class j / CLASS_WORDS).
+  int slice[SLICEMAP_CLASSES];
+  for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
+    float coord = sliceCoordinate(column, c, depth) - biasSlices;
+    slice[c] = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
+  }
   for (int k = 0; k < SLICEMAP_TARGETS; ++k) {
     uvec4 w = SLICEMAP_FETCH(slicemapBits, column, k);
-    for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
-      float coord = sliceCoordinate(column, c, depth) - biasSlices;
-      int slice = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
-      ivec4 word = ivec4(0, 1, 2, 3) + 4 * k - c * SLICEMAP_CLASS_WORDS;  // index among the class's words
-      bvec4 own = bvec4(uvec4(greaterThanEqual(word, ivec4(0))) * uvec4(lessThan(word, ivec4(SLICEMAP_CLASS_WORDS))));
-      ivec4 bits = clamp(ivec4(slice) - 32 * word, ivec4(0), ivec4(32));
-      uvec4 mask = mix((uvec4(1u) << uvec4(min(bits, ivec4(31)))) - 1u, uvec4(0xFFFFFFFFu), equal(bits, ivec4(32)));
-      ivec4 n = bitCount(w & mix(uvec4(0u), mask, own));
-      opticalDepth += float(column.inside ? n.x + n.y + n.z + n.w : 0) * slicemap.classLog2Transmittance[c].rgb;
+    for (int j = 4 * k; j < 4 * k + 4; ++j) {
+      int c = j / SLICEMAP_CLASS_WORDS;  // compile-time after unrolling
+      if (c >= SLICEMAP_CLASSES) break;
+      int bits = clamp(slice[c] - 32 * (j - c * SLICEMAP_CLASS_WORDS), 0, 32);
+      int n = bitCount(bitfieldExtract(w[j & 3], 0, bits));
+      opticalDepth += float(n) * SLICEMAP_LOG2T(c);
     }
   }
+  if (!column.inside) opticalDepth = SLICEMAP_CHANNELS(0.0);
 #else
   for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
     float coord = sliceCoordinate(column, c, depth) - biasSlices;
     int slice = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
     int n = column.inside ? bitsInFront(column, c * SLICEMAP_TARGETS, slice) : 0;
-    opticalDepth += float(n) * slicemap.classLog2Transmittance[c].rgb;
+    opticalDepth += float(n) * SLICEMAP_LOG2T(c);
   }
 #endif
-  T = exp2(max(opticalDepth, vec3(-126.0)));
+  T = vec3(exp2(max(opticalDepth, SLICEMAP_CHANNELS(-126.0))));
 #endif
   return T;
 }
