@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
-  std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 15 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 25 minutes on 2 cores).\n\n");
   std::printf("- renderer: %s (%s)\n", context.info().glRenderer.c_str(), context.info().glVersion.c_str());
   std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"
@@ -227,6 +227,21 @@ int main(int argc, char** argv) {
         if (!m.ok) continue;
         std::printf("| %d | %d | %s | %.1f | %.1f |\n", targets, 128 * targets, lookup, m.run.passMs("Prefix Counts"),
                     m.run.passMs("Scattering"));
+        std::fflush(stdout);
+      }
+
+    // ---- 4b. Shared column fetches
+    std::printf("\n## Visibility of several samples from one column fetch (share), foliage %dx%d, 128 steps\n\n", w, h);
+    std::printf("share=S: S consecutive samples take their visibility from the column at the group's middle, each at "
+                "its own light depth. L_s relMSE against raymarch steps=4096 (equiangular).\n\n");
+    std::printf("| res | share | L_s relMSE | Scattering ms |\n|---|---|---|---|\n");
+    Measured shareRef = measure(foliage, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 1, nullptr);
+    for (int res : {128, 512})
+      for (int share : {1, 2, 4, 8}) {
+        Measured m = measure(foliage, "slicemap:res=" + std::to_string(res) + ":share=" + std::to_string(share), limits, w, h,
+                             frames, shareRef.ok ? &shareRef.run.inscatter : nullptr);
+        if (!m.ok) continue;
+        std::printf("| %d | %d | %.2e | %.1f |\n", res, share, m.relmse, m.run.passMs("Scattering"));
         std::fflush(stdout);
       }
 

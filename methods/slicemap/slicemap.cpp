@@ -130,6 +130,8 @@ std::vector<ParamSpec> SlicemapMethod::params() const {
                           "colour classes share the targets' words (4 x targets / classes words each), so that one fetch "
                           "serves every class"),
           ParamSpec::integer("steps", 128, 1, 4096, "Scattering: samples along the camera ray"),
+          ParamSpec::integer("share", 1, 1, 16,
+                             "Scattering: consecutive samples whose visibility comes from one column fetch (ours)"),
           ParamSpec::flag("equiangular", true, "Scattering: equiangular samples (point and spot lights)"),
           ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
           ParamSpec::flag("surface", true, "Shading: surfaces shadowed by the slicemap (the paper's use)")};
@@ -153,6 +155,8 @@ std::string SlicemapMethod::unsupportedReason(const Scene& scene, const ParamVal
   auto classes = slicemap::colorClasses(scene, opaqueInSlices(params), problem);
   if (!problem.empty()) return problem;
   bool pack = params.getBool("pack");
+  if (params.getInt("share") > 1 && params.getString("lookup") == "prefix")
+    return "share > 1 needs lookup=scan (a shared fetch holds the column's words)";
   if (pack && params.getString("lookup") == "prefix" && classes.size() > 1)
     return "lookup=prefix needs pack=0 with more than one colour class (prefix counts run over one class's words)";
   if (pack && classes.size() > size_t(4 * params.getInt("targets")))
@@ -177,6 +181,7 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   prefix_ = params.getString("lookup") == "prefix";
   packed_ = false;  // set once the classes are known: packing one class changes nothing
   steps_ = params.getInt("steps");
+  share_ = params.getInt("share");
   jitter_ = params.getBool("jitter");
   surface_ = params.getBool("surface");
   opaqueInSlices_ = opaqueInSlices(params);
@@ -270,7 +275,8 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
                         "\n#define SLICEMAP_OPAQUE_IN_SLICES " + (opaqueInSlices_ ? "1" : "0") +
                         "\n#define SLICEMAP_CUBE " + (faces_ == 6 ? "1" : "0") + "\n#define SLICEMAP_PACKED " +
                         (packed_ ? "1" : "0") + "\n#define SLICEMAP_CLASS_WORDS " + std::to_string(wordsPerClass()) +
-                        "\n#define SLICEMAP_GREY " + (grey ? "1" : "0") + "\n";
+                        "\n#define SLICEMAP_GREY " + (grey ? "1" : "0") +
+                        "\n#define SLICEMAP_SHARE " + std::to_string(share_) + "\n";
   const gl::ShaderStage vertex{GL_VERTEX_SHADER, "harness/shaders/transmittance.vert"};
   if (classes > 0) {
     voxelizeProgram_ = gl::buildProgram({vertex, {GL_FRAGMENT_SHADER, "methods/slicemap/shaders/voxelize.frag"}}, defines);
@@ -381,6 +387,7 @@ void SlicemapMethod::render(const Frame& frame, PassTimer& timer) {
     // long marches run as several additive passes.
     int perSample = 1 + int(classes_.size()) * (2 + targets_);
     int chunk = std::max(gl::kShaderLoopBudget / perSample, 1);
+    chunk = std::max(chunk / share_ * share_, share_);  // whole groups of shared fetches per pass
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     for (int first = 0; first < steps_; first += chunk) {

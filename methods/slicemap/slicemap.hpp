@@ -78,7 +78,7 @@ class SlicemapMethod : public Method {
 
   const SceneGpu* geometry_ = nullptr;
   std::vector<slicemap::ColorClass> classes_;
-  int resolution_ = 512, targets_ = 1, faces_ = 1, steps_ = 128;
+  int resolution_ = 512, targets_ = 1, faces_ = 1, steps_ = 128, share_ = 1;
   bool local_ = false, prefix_ = false, packed_ = false, jitter_ = true, surface_ = true, opaqueInSlices_ = false;
   bool needsSharedShadowMap_ = true;
   double triangles_ = 0.0;  // voxelized per frame (all faces and classes)

@@ -67,11 +67,11 @@ float sliceCoordinate(Column column, int cls, float d) {
 }
 
 #ifndef NEAR_FAR_PASS
-// Bits set in cells 0 .. slice-1 of a column whose words start at `layer`.
-int bitsInFront(Column column, int layer, int slice) {
 #if SLICEMAP_PREFIX
-  // Two fetches whatever the number of targets: the word holding the last cell in front, and the
-  // bits in the words before it.
+// Bits set in cells 0 .. slice-1 of a column whose words start at `layer`, from two fetches
+// whatever the number of targets: the word holding the last cell in front, and the bits in the
+// words before it.
+int bitsInFront(Column column, int layer, int slice) {
   int word = min(slice >> 5, 4 * SLICEMAP_TARGETS - 1);
   int bits = clamp(slice - 32 * word, 0, 32);
   int at = layer + (word >> 2);
@@ -79,31 +79,36 @@ int bitsInFront(Column column, int layer, int slice) {
   uint before = SLICEMAP_FETCH(slicemapPrefix, column, at)[word & 3];
   uint mask = bits >= 32 ? 0xFFFFFFFFu : (1u << uint(bits)) - 1u;
   return int(before) + bitCount(w & mask);
-#else
-  // The paper's count: every word of the column, masked to the cells in front.
-  int n = 0;
-  for (int k = 0; k < SLICEMAP_TARGETS; ++k) {
-    uvec4 w = SLICEMAP_FETCH(slicemapBits, column, layer + k);
-    ivec4 bits = clamp(ivec4(slice) - (ivec4(0, 32, 64, 96) + 128 * k), ivec4(0), ivec4(32));
-    uvec4 mask = mix((uvec4(1u) << uvec4(min(bits, ivec4(31)))) - 1u, uvec4(0xFFFFFFFFu), equal(bits, ivec4(32)));
-    ivec4 c = bitCount(w & mask);
-    n += c.x + c.y + c.z + c.w;
-  }
-  return n;
-#endif
 }
+#endif
 
-// Transmittance of the voxelized occluders between the light and x: per colour class,
-// t^n with n the class's bits in front of x's slice. `biasSlices` moves the lookup towards the
-// light (surfaces: their own cell), and `biasDepth` the depth (world units). 1 outside the
-// light's views.
-vec3 slicemapTransmittance(vec3 x, float biasSlices, float biasDepth) {
-  vec3 T = vec3(1.0);
+// A column as the scan lookups see it: every target of every class slot, and (local slicing) each
+// class's near/far, fetched once so that several march samples can share them.
 #if SLICEMAP_CLASSES > 0
-  Column column = slicemapColumn(x);
-  float depth = slicemapDepth(x) - biasDepth;
-  float slices = slicemap.params.z;
-  // log2 of the transmittance: the classes' crossings in front of x, one exp2 at the end.
+#define SLICEMAP_LAYERS (SLICEMAP_TARGETS * (SLICEMAP_PACKED != 0 ? 1 : SLICEMAP_CLASSES))
+struct ColumnWords {
+  uvec4 w[SLICEMAP_LAYERS];
+  vec2 nearFar[SLICEMAP_CLASSES];
+  bool inside;
+};
+
+ColumnWords fetchColumn(Column column) {
+  ColumnWords c;
+  for (int k = 0; k < SLICEMAP_LAYERS; ++k) c.w[k] = SLICEMAP_FETCH(slicemapBits, column, k);
+  for (int cls = 0; cls < SLICEMAP_CLASSES; ++cls) {
+#if SLICEMAP_LOCAL
+    vec2 nf = SLICEMAP_FETCH(slicemapNearFar, column, cls).xy;
+    c.nearFar[cls] = vec2(nf.x, slicemap.params.z / max(-nf.y - nf.x, 1e-30));
+#else
+    c.nearFar[cls] = slicemap.classRange[cls].xz;
+#endif
+  }
+  c.inside = column.inside;
+  return c;
+}
+#endif
+
+// log2 of the transmittance: float when every class is grey (one channel counted), else rgb.
 #if SLICEMAP_GREY
 #define SLICEMAP_CHANNELS float
 #define SLICEMAP_LOG2T(c) slicemap.classLog2Transmittance[c].r
@@ -111,37 +116,71 @@ vec3 slicemapTransmittance(vec3 x, float biasSlices, float biasDepth) {
 #define SLICEMAP_CHANNELS vec3
 #define SLICEMAP_LOG2T(c) slicemap.classLog2Transmittance[c].rgb
 #endif
+
+#if SLICEMAP_CLASSES > 0
+// Transmittance at light depth `depth` in a fetched column: per colour class t^n with n the class's
+// bits in front of the depth's slice, summed in log2 and exponentiated once. `biasSlices` moves
+// the lookup towards the light.
+vec3 columnTransmittance(ColumnWords c, float depth, float biasSlices) {
+  float slices = slicemap.params.z;
+  int slice[SLICEMAP_CLASSES];
+  for (int cls = 0; cls < SLICEMAP_CLASSES; ++cls) {
+    float coord = (depth - c.nearFar[cls].x) * c.nearFar[cls].y - biasSlices;
+    slice[cls] = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
+  }
   SLICEMAP_CHANNELS opticalDepth = SLICEMAP_CHANNELS(0.0);
 #if SLICEMAP_PACKED
-  // Every class's words in the same targets: each target is fetched once for all classes, and each
-  // word is masked and counted once, for the class that owns it (word j: class j / CLASS_WORDS).
-  int slice[SLICEMAP_CLASSES];
-  for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
-    float coord = sliceCoordinate(column, c, depth) - biasSlices;
-    slice[c] = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
+  // Every class's words in the same targets: each word is masked and counted once, for the class
+  // that owns it (word j: class j / CLASS_WORDS, known at compile time after unrolling).
+  for (int j = 0; j < 4 * SLICEMAP_TARGETS; ++j) {
+    int cls = j / SLICEMAP_CLASS_WORDS;
+    if (cls >= SLICEMAP_CLASSES) break;
+    int bits = clamp(slice[cls] - 32 * (j - cls * SLICEMAP_CLASS_WORDS), 0, 32);
+    opticalDepth += float(bitCount(bitfieldExtract(c.w[j >> 2][j & 3], 0, bits))) * SLICEMAP_LOG2T(cls);
   }
-  for (int k = 0; k < SLICEMAP_TARGETS; ++k) {
-    uvec4 w = SLICEMAP_FETCH(slicemapBits, column, k);
-    for (int j = 4 * k; j < 4 * k + 4; ++j) {
-      int c = j / SLICEMAP_CLASS_WORDS;  // compile-time after unrolling
-      if (c >= SLICEMAP_CLASSES) break;
-      int bits = clamp(slice[c] - 32 * (j - c * SLICEMAP_CLASS_WORDS), 0, 32);
-      int n = bitCount(bitfieldExtract(w[j & 3], 0, bits));
-      opticalDepth += float(n) * SLICEMAP_LOG2T(c);
-    }
-  }
-  if (!column.inside) opticalDepth = SLICEMAP_CHANNELS(0.0);
 #else
+  // The paper's count: every word of the class's targets, masked to the cells in front.
+  for (int cls = 0; cls < SLICEMAP_CLASSES; ++cls) {
+    int n = 0;
+    for (int k = 0; k < SLICEMAP_TARGETS; ++k) {
+      uvec4 w = c.w[cls * SLICEMAP_TARGETS + k];
+      ivec4 bits = clamp(ivec4(slice[cls]) - (ivec4(0, 32, 64, 96) + 128 * k), ivec4(0), ivec4(32));
+      uvec4 mask = mix((uvec4(1u) << uvec4(min(bits, ivec4(31)))) - 1u, uvec4(0xFFFFFFFFu), equal(bits, ivec4(32)));
+      ivec4 b = bitCount(w & mask);
+      n += b.x + b.y + b.z + b.w;
+    }
+    opticalDepth += float(n) * SLICEMAP_LOG2T(cls);
+  }
+#endif
+  if (!c.inside) opticalDepth = SLICEMAP_CHANNELS(0.0);
+  return vec3(exp2(max(opticalDepth, SLICEMAP_CHANNELS(-126.0))));
+}
+#endif
+
+// Transmittance of the voxelized occluders between the light and x. `biasSlices` moves the
+// lookup towards the light (surfaces: their own cell), and `biasDepth` the depth (world units).
+// 1 outside the light's views.
+vec3 slicemapTransmittance(vec3 x, float biasSlices, float biasDepth) {
+#if SLICEMAP_CLASSES == 0
+  return vec3(1.0);
+#else
+  Column column = slicemapColumn(x);
+  float depth = slicemapDepth(x) - biasDepth;
+#if SLICEMAP_PREFIX
+  // Prefix Counts: two fetches per class whatever the number of targets.
+  float slices = slicemap.params.z;
+  SLICEMAP_CHANNELS opticalDepth = SLICEMAP_CHANNELS(0.0);
   for (int c = 0; c < SLICEMAP_CLASSES; ++c) {
     float coord = sliceCoordinate(column, c, depth) - biasSlices;
     int slice = coord <= 0.0 ? 0 : (coord >= slices ? int(slices) : int(coord));
     int n = column.inside ? bitsInFront(column, c * SLICEMAP_TARGETS, slice) : 0;
     opticalDepth += float(n) * SLICEMAP_LOG2T(c);
   }
+  return vec3(exp2(max(opticalDepth, SLICEMAP_CHANNELS(-126.0))));
+#else
+  return columnTransmittance(fetchColumn(column), depth, biasSlices);
 #endif
-  T = vec3(exp2(max(opticalDepth, SLICEMAP_CHANNELS(-126.0))));
 #endif
-  return T;
 }
 
 // Visibility of the light from x: the shared shadow map for opaque occluders (the paper's

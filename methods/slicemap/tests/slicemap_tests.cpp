@@ -154,6 +154,28 @@ TEST_F(SlicemapTest, ScanAndPrefixLookupsAgree) {
   }
 }
 
+TEST_F(SlicemapTest, SharedColumnFetches) {
+  // Under a directional light every column of a stack of horizontal layers holds the same bits,
+  // so samples that share a column fetch see exactly their own visibility, also when the step
+  // count is not a multiple of the group (steps=7, share=4: a group of 3 at the end).
+  Scene stack = sceneFromJson(stackScene(5, 0.5));
+  for (const char* steps : {"8", "7"}) {
+    MethodRun one = renderScene(stack, std::string("slicemap:res=64:sm=64:steps=") + steps, 16, 12);
+    MethodRun four = renderScene(stack, std::string("slicemap:res=64:sm=64:share=4:steps=") + steps, 16, 12);
+    ASSERT_EQ(one.status, RunStatus::Success) << one.reason;
+    ASSERT_EQ(four.status, RunStatus::Success) << four.reason;
+    EXPECT_LT(compareImages(four.inscatter, one.inscatter).relmse, 1e-12) << steps;
+  }
+  // On foliage a shared column is a neighbour's: the shadows shift by up to half a group of steps.
+  Scene foliage = loadScene("foliage");
+  MethodRun one = renderScene(foliage, "slicemap:res=128:steps=64", 48, 36);
+  MethodRun two = renderScene(foliage, "slicemap:res=128:steps=64:share=2", 48, 36);
+  ASSERT_EQ(two.status, RunStatus::Success) << two.reason;
+  double relmse = compareImages(two.inscatter, one.inscatter).relmse;
+  EXPECT_GT(relmse, 0.0);
+  EXPECT_LT(relmse, 1e-3);
+}
+
 TEST_F(SlicemapTest, MatchesTheExactGroundTruthOnFoliage) {
   // Against the CPU ground truth (Embree any-hit transmittance, double precision) at 48x36. L_s is
   // as close as the brute-force march with the transmittance map at the same steps; the surfaces
@@ -342,6 +364,8 @@ TEST_F(SlicemapTest, RefusesWhatItCannotVoxelize) {
   ResolvedSpec prefixPacked = resolveSpec("slicemap:lookup=prefix", glLimits());
   EXPECT_NE(method->unsupportedReason(loadScene("foliage"), prefixPacked.params).find("pack=0"), std::string::npos);
   EXPECT_EQ(method->unsupportedReason(loadScene("spheres"), prefixPacked.params), "");  // one class: nothing to pack
+  ResolvedSpec sharedPrefix = resolveSpec("slicemap:lookup=prefix:pack=0:share=2", glLimits());
+  EXPECT_NE(method->unsupportedReason(loadScene("foliage"), sharedPrefix.params).find("lookup=scan"), std::string::npos);
   EXPECT_THROW(resolveSpec("slicemap:targets=9", glLimits()), UsageError);
   EXPECT_THROW(resolveSpec("slicemap:res=100", glLimits()), UsageError);
 }
