@@ -176,6 +176,7 @@ class EqualQuality {
       : plan_(plan), limits_(limits), registry_(registry), reference_(reference), progress_(progress) {
     options.frames = std::min(options.frames, 2);
     options.warmup = 1;
+    options.workCounters = false;
     runner_ = std::make_unique<Runner>(plan.scene, limits, options);
     for (const auto& info : registry)
       if (!info.create()->referenceParams(plan.effects).empty()) {
@@ -625,6 +626,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   options.warmup = req.warmup;
   options.seed = uint32_t(req.seed);
   options.timer = calibration.chosen;
+  options.workCounters = true;
 
   Progress progress(int(plan.jobs.size()) + (plan.haveReference ? 1 : 0) +
                     (req.exact && !plan.exactReference ? 1 : 0));

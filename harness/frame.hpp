@@ -34,6 +34,7 @@ constexpr GLuint kVolumeUniforms = 1;     // UBO
 constexpr GLuint kTransmittanceHeads = 7;  // image unit (uimage2DArray): first node per light texel and face
 constexpr GLuint kTransmittanceUniforms = 2;  // UBO
 constexpr GLuint kTransmittanceNodes = 7;   // SSBO
+constexpr GLuint kWorkCounters = 6;        // image unit (uimage2DArray, r32ui): harness/work_counters.hpp
 }  // namespace bind
 
 // Volumes a scene may hold (each a 3D texture on its own unit).

@@ -100,6 +100,16 @@ class Method {
   // The method's own buffers for the viewer, valid after render(); the viewer adds the shared
   // shadow map itself. Called only by the viewer, never inside a timed pass.
   virtual std::vector<DebugView> debugViews() const { return {}; }
+  // Work counters for the result row (e.g. traversal steps per pixel, mean and max). After the
+  // timed frames and the image readback the runner calls beginWorkCount(); if it returns true,
+  // it renders one more, untimed frame, during which render() runs instrumented passes, and adds
+  // endWorkCount() to the row's stats.
+  virtual bool beginWorkCount(int width, int height) {
+    (void)width;
+    (void)height;
+    return false;
+  }
+  virtual std::map<std::string, double> endWorkCount() { return {}; }
   // Figures for the result row, from the measured pass medians (e.g. samples per second).
   virtual std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const {
     (void)passes;

@@ -244,6 +244,13 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     result.inscatter = shared().readInscatter();
     result.final = shared().readFinal();
     gl::checkErrors("readback");
+    // The method's work counters, from one more frame that is neither timed nor read back.
+    if (options_.workCounters && method.beginWorkCount(options_.width, options_.height)) {
+      PassTimer untimed(TimerStrategy::WallClock);
+      renderFrame(method, untimed, uint32_t(total - 1), false);
+      gl::checkErrors("work counters");
+      for (const auto& [key, value] : method.endWorkCount()) result.stats[key] = value;
+    }
     if (gl::debugErrorCount() > 0) {
       result.status = RunStatus::Failure;
       result.reason = "GL error: " + gl::lastDebugError();
@@ -324,6 +331,7 @@ Reference obtainReference(const Scene& scene, const gl::Limits& limits, const Ru
   RunOptions refOptions = options;
   refOptions.frames = 1;
   refOptions.warmup = 0;
+  refOptions.workCounters = false;
   Runner runner(scene, limits, refOptions);
   MethodRun run = runner.run(*method, resolved.params);
   if (run.status != RunStatus::Success)

@@ -21,6 +21,9 @@ struct RunOptions {
   // false: nothing is drawn into the shadow map, so V = 1 everywhere. Gives the unshadowed L_s
   // with the same camera rays, the upper bound every method's L_s must respect.
   bool shadowCasters = true;
+  // true: after the timed frames, one untimed frame with the method's work counters
+  // (Method::beginWorkCount), added to MethodRun::stats. vshadow run, shootout and sweep set it.
+  bool workCounters = false;
 };
 
 enum class RunStatus { Success, Unsupported, Failure };

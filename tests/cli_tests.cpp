@@ -110,13 +110,17 @@ TEST(CliTest, ShootoutRunsPointLightMethodsPerVplOnAnAreaLight) {
                                 "--out", out, "--cache", dir + "/cache", "--strict-gl", "--no-images"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   CsvTable runs = loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns);
-  std::map<std::string, std::string> status, params;
+  std::map<std::string, std::string> status, params, stats;
   for (const auto& row : runs.rows()) {
     status[field(runs, row, "method")] = field(runs, row, "status");
     params[field(runs, row, "method")] = field(runs, row, "params");
+    stats[field(runs, row, "method")] = field(runs, row, "method_stats");
   }
   EXPECT_EQ(status["vsv"], "Success");
   EXPECT_NE(params["vsv"].find("vpls=16"), std::string::npos) << params["vsv"];
+  // Work counters, from one untimed frame over every VPL.
+  EXPECT_NE(stats["vsv"].find("vsv_bins_mean="), std::string::npos) << stats["vsv"];
+  EXPECT_NE(stats["vsv"].find("vsv_shadowed_voxels="), std::string::npos) << stats["vsv"];
   EXPECT_EQ(status["ivsv"], "Success");
   EXPECT_NE(params["ivsv"].find("vpls=0"), std::string::npos) << params["ivsv"];  // area lights natively
   EXPECT_EQ(status["slicemap"], "Unsupported");  // its setup fits one light position

@@ -103,7 +103,9 @@ void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params)
   rectifyProgram_ = gl::buildCompute("methods/minmax/shaders/rectify.comp", defines);
   mipmapProgram_ = gl::buildCompute("methods/minmax/shaders/mipmap.comp", defines);
   if (textured_) lightTextureProgram_ = gl::buildCompute("methods/minmax/shaders/light_texture.comp", defines);
-  integrateProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag", defines + variant);
+  integrateDefines_ = defines + variant;
+  integrateProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag", integrateDefines_);
+  countingProgram_.reset();
   nearEpipoleProgram_ = gl::buildFullscreen("methods/minmax/shaders/near_epipole.frag", defines);
   epipolarUbo_ = gl::createBuffer(sizeof(EpipolarUniforms));
 }
@@ -235,7 +237,8 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
   glDisable(GL_BLEND);
   {
     auto scope = timer.scope(kIntegrationPass);
-    glUseProgram(integrateProgram_.id());
+    glUseProgram(counting_ ? countingProgram_.id() : integrateProgram_.id());
+    if (counting_) counters_.bind();
     glBindTextureUnit(kUnitTree, tree_.id());
     glBindTextureUnit(kUnitBasisBeta, basisBeta_.id());
     glBindTextureUnit(kUnitGammaPrefix, gammaPrefix_.id());
@@ -264,6 +267,20 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
     gl::drawFullscreenTriangle();
     glDisable(GL_SCISSOR_TEST);
   }
+}
+
+bool MinmaxMethod::beginWorkCount(int width, int height) {
+  if (!countingProgram_)
+    countingProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag",
+                                           integrateDefines_ + "#define VS_WORK_COUNTERS 1\n");
+  counters_.begin(width, height);
+  counting_ = true;
+  return true;
+}
+
+std::map<std::string, double> MinmaxMethod::endWorkCount() {
+  counting_ = false;
+  return counters_.read("minmax");
 }
 
 std::map<std::string, double> MinmaxMethod::stats(const std::map<std::string, TimingStats>& passes) const {

@@ -2,6 +2,7 @@
 #pragma once
 #include "epipolar.hpp"
 #include "harness/method.hpp"
+#include "harness/work_counters.hpp"
 
 namespace vs {
 
@@ -19,6 +20,9 @@ class MinmaxMethod : public Method {
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // Integration's traversal iterations and lit runs per pixel (mean, max).
+  bool beginWorkCount(int width, int height) override;
+  std::map<std::string, double> endWorkCount() override;
   // The viewer's buffers: one epipolar slice per row, and its 1D min-max levels side by side (min, max).
   std::vector<DebugView> debugViews() const override {
     if (!rectified_) return {};
@@ -43,6 +47,10 @@ class MinmaxMethod : public Method {
   minmax::EpipolarFrame epipolar_;
 
   gl::Program rectifyProgram_, mipmapProgram_, lightTextureProgram_, integrateProgram_, nearEpipoleProgram_;
+  gl::Program countingProgram_;  // Integration with work counters, built on the first count
+  std::string integrateDefines_;
+  WorkCounters counters_{{"visited", "iterations", "lit_runs"}};
+  bool counting_ = false;
   gl::Buffer epipolarUbo_;
   gl::Texture rectified_, pingPong_[2], tree_;
   gl::Texture basisBeta_, basisGamma_, gammaPrefix_, texturedPrefix_;

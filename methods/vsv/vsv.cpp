@@ -3,6 +3,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <stdexcept>
 
@@ -85,7 +86,9 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   rangesSsbo_ = gl::createBuffer(2 * sizeof(uint32_t));
   const std::string defines = sceneDefines(context.effects) + "#define VSV_LAYERS " + std::to_string(size_.layers()) + "\n";
   rangesProgram_ = gl::buildCompute("methods/vsv/shaders/ranges.comp", defines);
+  inscatterDefines_ = defines;
   inscatterProgram_ = gl::buildFullscreen("methods/vsv/shaders/inscatter.frag", defines);
+  countingProgram_.reset();
   if (surfaceShadows_) surfaceProgram_ = gl::buildFullscreen("methods/vsv/shaders/surface.frag", defines);
   if (fromGeometry_) {
     geometryProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "methods/vsv/shaders/voxelize_geom.vert"},
@@ -186,7 +189,8 @@ void VsvMethod::integrate(const Frame& frame, PassTimer& timer) {
   glViewport(0, 0, frame.width, frame.height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
-  glUseProgram(inscatterProgram_.id());
+  glUseProgram(counting_ ? countingProgram_.id() : inscatterProgram_.id());
+  if (counting_) counters_.bind();
   glBindTextureUnit(bind::kFirstMethodUnit, voxels_->texture());
   glUniform1i(0, frame.effects.lightTexture ? coarse_ : 1);
   gl::drawFullscreenTriangle();
@@ -221,6 +225,28 @@ void VsvMethod::render(const Frame& frame, PassTimer& timer) {
   }
   integrate(frame, timer);
   if (surfaceShadows_) shadeSurfaces(frame, timer);
+}
+
+bool VsvMethod::beginWorkCount(int width, int height) {
+  if (!countingProgram_)
+    countingProgram_ =
+        gl::buildFullscreen("methods/vsv/shaders/inscatter.frag", inscatterDefines_ + "#define VS_WORK_COUNTERS 1\n");
+  counters_.begin(width, height);
+  counting_ = true;
+  return true;
+}
+
+std::map<std::string, double> VsvMethod::endWorkCount() {
+  counting_ = false;
+  std::map<std::string, double> out = counters_.read("vsv");
+  if (voxels_) {
+    double set = 0.0;
+    for (uint32_t word : voxels_->read()) set += double(std::bitset<32>(word).count());
+    double total = double(size_.nAlpha) * size_.nTheta * size_.nPhi;
+    out["vsv_shadowed_voxels"] = set;
+    out["vsv_shadowed_voxel_fraction"] = total > 0.0 ? set / total : 0.0;
+  }
+  return out;
 }
 
 std::map<std::string, double> VsvMethod::stats(const std::map<std::string, TimingStats>& passes) const {

@@ -9,6 +9,7 @@
 
 #include "epipolar/epipolar_grid.hpp"
 #include "harness/method.hpp"
+#include "harness/work_counters.hpp"
 
 namespace vs {
 
@@ -25,6 +26,10 @@ class VsvMethod : public Method {
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;
+  // Compute L_s's φ bins, light evaluations and voxel fetches per pixel (mean, max), and the
+  // voxels the voxelizer and scan set (in shadow).
+  bool beginWorkCount(int width, int height) override;
+  std::map<std::string, double> endWorkCount() override;
   // The viewer's buffers: the scanned voxel grid, one phi slice (bit) at a time (alpha across, theta down).
   std::vector<DebugView> debugViews() const override {
     if (!voxels_) return {};
@@ -53,6 +58,10 @@ class VsvMethod : public Method {
   gl::Buffer gridUbo_, rangesSsbo_;
   gl::VertexArray emptyVao_;
   gl::Program rangesProgram_, fromSmProgram_, fusedProgram_, geometryProgram_, inscatterProgram_, surfaceProgram_;
+  gl::Program countingProgram_;  // Compute L_s with work counters, built on the first count
+  std::string inscatterDefines_;
+  WorkCounters counters_{{"visited", "bins", "light_evals", "fetches"}};
+  bool counting_ = false;
 };
 
 }  // namespace vs

@@ -5,6 +5,7 @@
 // Same algorithm as vs::minmax::traverseRow (methods/minmax/traversal.hpp).
 #include "common.glsl"
 #include "epipolar.glsl"
+#include "work_counters.glsl"
 // Built per variant (minmax.cpp): MINMAX_RANK, MINMAX_TEXTURED, MINMAX_DELAY_GAMMA and
 // MINMAX_UP_ONE_LEVEL are compile-time constants, since llvmpipe runs both sides of every branch
 // and every iteration of a loop bounded by a uniform under a mask.
@@ -21,6 +22,7 @@ vec3 coefficient[MINMAX_RANK];
 vec4 coefficient[kRankGroups];  // four ranks per vec4: the light is grey along each light ray
 #endif
 int rowSlice = 0;
+uint workIterations = 0u, workRuns = 0u;  // traversal iterations and lit runs (work counters)
 
 // Adds sign * P_i(x) to every coefficient, x in texel units of the rectified row (or beyond it for
 // the unoccluded tail). A lit interval [a, b] is P(b) - P(a): the traversal adds its two ends as
@@ -63,6 +65,7 @@ void traverseRow(int d, float beta, float g0, float g1) {
   float runEnd = 0.0;
   int maxIterations = 4 * d + 64;
   for (int iteration = 0; iteration < maxIterations; ++iteration) {
+    ++workIterations;
     int level = treeLevel(node);
     float size = float(d >> level);
     float start = float(node - (1u << level)) * size, end = start + size;
@@ -79,11 +82,13 @@ void traverseRow(int d, float beta, float g0, float g1) {
     // One event at most per node, at a single call site: a run starts (-P(a)) or ends (+P(end)).
     float eventSign = lit ? (inRun ? 0.0 : -1.0) : (inRun ? 1.0 : 0.0);
     float eventX = lit ? a : runEnd;
+    if (eventSign < 0.0) ++workRuns;
     if (eventSign != 0.0) addPrefix(eventSign, eventX);
     inRun = lit;
     if (lit) runEnd = b;
 #else
     if (lit) {
+      ++workRuns;
       addPrefix(1.0, b);
       addPrefix(-1.0, a);
     }
@@ -121,6 +126,7 @@ void main() {
   traverseRow(d, beta, 0.0, gammaEnd * toTexel);
   // Directional light: beyond gammaMap no light ray meets the scene, so the tail is lit.
   if (gammaEnd > ep.gammaInfo.x) {
+    ++workRuns;
     addPrefix(1.0, gammaEnd * toTexel);
     addPrefix(-1.0, float(d));
   }
@@ -139,4 +145,8 @@ void main() {
   vec3 result = max(color * sum / (ep.axis.w * sinBeta), vec3(0.0));
   if (any(isnan(result)) || any(isinf(result))) result = vec3(0.0);
   outInscatter = vec4(result, 1.0);
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  countWork(pixel, 0, 1u);
+  countWork(pixel, 1, workIterations);
+  countWork(pixel, 2, workRuns);
 }

@@ -286,5 +286,36 @@ TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
   }
 }
 
+TEST_F(MinmaxTest, WorkCountersCountTheTraversal) {
+  // Without shadow casters every row is one lit run; with the spheres' shadows the rows break into
+  // several, and the traversal takes more steps. The counters come from an extra, untimed frame.
+  Scene scene = loadScene("spheres");
+  RunOptions options;
+  options.width = kW;
+  options.height = kH;
+  options.frames = 1;
+  options.warmup = 0;
+  options.workCounters = true;
+  MethodRun shadowed = renderScene(scene, "minmax:sm=512", options);
+  options.shadowCasters = false;
+  MethodRun open = renderScene(scene, "minmax:sm=512", options);
+  ASSERT_EQ(open.status, RunStatus::Success) << open.reason;
+  ASSERT_EQ(shadowed.status, RunStatus::Success) << shadowed.reason;
+  for (const MethodRun* run : {&open, &shadowed}) {
+    ASSERT_TRUE(run->stats.count("minmax_iterations_mean"));
+    EXPECT_GT(run->stats.at("minmax_pixels"), 0.5 * kW * kH);
+    EXPECT_LE(run->stats.at("minmax_pixels"), double(kW * kH));
+    EXPECT_GE(run->stats.at("minmax_iterations_max"), run->stats.at("minmax_iterations_mean"));
+  }
+  EXPECT_DOUBLE_EQ(open.stats.at("minmax_lit_runs_max"), 1.0);
+  EXPECT_GT(open.stats.at("minmax_lit_runs_mean"), 0.9);
+  EXPECT_GT(shadowed.stats.at("minmax_lit_runs_max"), 1.0);
+  EXPECT_GT(shadowed.stats.at("minmax_iterations_mean"), open.stats.at("minmax_iterations_mean"));
+  std::printf("spheres %dx%d: iterations per pixel %.1f (max %.0f), lit runs %.2f (max %.0f); unshadowed %.1f, %.2f\n", kW,
+              kH, shadowed.stats.at("minmax_iterations_mean"), shadowed.stats.at("minmax_iterations_max"),
+              shadowed.stats.at("minmax_lit_runs_mean"), shadowed.stats.at("minmax_lit_runs_max"),
+              open.stats.at("minmax_iterations_mean"), open.stats.at("minmax_lit_runs_mean"));
+}
+
 }  // namespace
 }  // namespace vs::testing

@@ -9,11 +9,14 @@
 // stepping) and reads its bins one by one. Directional lights: see parallelInscatter.
 #include "common.glsl"
 #include "epipolar.glsl"
+#include "work_counters.glsl"
 layout(binding = 10) uniform usampler2DArray voxels;
 layout(location = 0) uniform int binsPerStep;
 layout(location = 0) out vec4 outInscatter;
 
 const int MIN_STEPS = 8;
+// Work counters: φ bins the pixel's integral visits, light evaluations, voxel-texel fetches.
+uint workBins = 0u, workEvals = 0u, workFetches = 0u;
 
 bool bitSet(uvec4 bits, int b) { return ((bits[(b >> 5) & 3] >> uint(b & 31)) & 1u) != 0u; }
 
@@ -37,9 +40,12 @@ vec3 parallelInscatter(vec3 dir, float dist, float alpha, int col, int row, floa
     float lit = 0.0;
     if (yHi - yLo <= 1e-6 * binWidth) {  // along the axis: a single bin
       int b = int(yLo / binWidth);
+      ++workBins;
+      ++workFetches;
       lit = b >= nPhi() ? 1.0 : (bitSet(texelFetch(voxels, ivec3(col, row, b >> 7), 0), b) ? 0.0 : 1.0);
     } else {
       for (int b = int(yLo / binWidth); b <= int(yHi / binWidth); ++b) {
+        ++workBins;
         float overlap = max(min(yHi, float(b + 1) * binWidth) - max(yLo, float(b) * binWidth), 0.0);
         if (b >= nPhi()) {  // beyond φ_max: nothing occludes
           lit += overlap;
@@ -49,12 +55,14 @@ vec3 parallelInscatter(vec3 dir, float dist, float alpha, int col, int row, floa
         if (layer != cachedLayer) {
           bits = texelFetch(voxels, ivec3(col, row, layer), 0);
           cachedLayer = layer;
+          ++workFetches;
         }
         if (!bitSet(bits, b)) lit += overlap;
       }
       lit /= (yHi - yLo);
     }
     if (lit <= 0.0) continue;
+    ++workEvals;
     vec3 x = vsv.eyeAndDistance.xyz + dir * ((float(j) + 0.5) * h);
     sum += lit * attenuation * stepWeight * lightIncident(x);
   }
@@ -101,6 +109,9 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
   int fullBins = int(binsCovered);
   vec3 sum = vec3(0.0);
   int layers = min((fullBins + 127) >> 7, vsv.grid.w);
+  workBins += uint(fullBins);
+  workFetches += uint(layers);
+  workEvals += uint(layers * 2 * 4 * (32 / VSV_GROUP));
   for (int layer = 0; layer < layers; ++layer) {
     uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
     for (int k = 0; k < 4; ++k) {
@@ -126,6 +137,9 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
     uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
     bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
     float phi = (float(fullBins) + 0.5 * partial) * binWidth;
+    ++workBins;
+    ++workFetches;
+    ++workEvals;
     if (!shadowed) sum += partial * binWidth * pointIntegrand(phi, eye, dir, dist, alpha, D, DsinAlpha);
   }
   return sum;
@@ -151,6 +165,8 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
   int fullBins = min(int(binsCovered), nPhi());
   float sum = 0.0;
   int layers = min((fullBins + 127) >> 7, vsv.grid.w);
+  workBins += uint(fullBins);
+  workFetches += uint(layers);
   for (int layer = 0; layer < layers; ++layer) {
     uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
     for (int k = 0; k < 4; ++k) {
@@ -182,6 +198,15 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
   return sum;
 }
 
+// The pixel's L_s (non-finite values become 0) and its work counters.
+void finish(ivec2 pixel, vec3 result) {
+  outInscatter = vec4(all(lessThan(abs(result), vec3(3.0e38))) ? result : vec3(0.0), 1.0);
+  countWork(pixel, 0, 1u);
+  countWork(pixel, 1, workBins);
+  countWork(pixel, 2, workEvals);
+  countWork(pixel, 3, workFetches);
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 dir;
@@ -202,6 +227,7 @@ void main() {
     if (parallelLight()) {
       result = parallelTransmittanceIntegral(dist, alpha, col, row, binWidth, pMax) * lightIncident(eye) * sigmaS() *
                phase(dot(u.lightDir.xyz, -dir));
+      ++workEvals;
     } else {
       result = pointInscatter(eye, dir, dist, alpha, col, row, binWidth, min(phiEnd, pMax));
       // Beyond φ_max (a ray that ends past the visible geometry's range) the last bin's
@@ -209,18 +235,20 @@ void main() {
       if (phiEnd > pMax) {
         uvec4 bits = texelFetch(voxels, ivec3(col, row, vsv.grid.w - 1), 0);
         float D = gridDistance();
+        ++workFetches;
+        ++workEvals;
         if ((bits.w >> 31) == 0u)
           result += (phiEnd - pMax) * pointIntegrand(0.5 * (pMax + phiEnd), eye, dir, dist, alpha, D, D * max(sin(alpha), 0.0));
       }
       result *= sigmaS();
     }
-    outInscatter = vec4(all(lessThan(abs(result), vec3(3.0e38))) ? result : vec3(0.0), 1.0);
+    finish(pixel, result);
     return;
   }
 #endif
   if (parallelLight()) {
     vec3 result = parallelInscatter(dir, dist, alpha, col, row, pMax / float(nPhi()));
-    outInscatter = vec4(all(lessThan(abs(result), vec3(3.0e38))) ? result : vec3(0.0), 1.0);
+    finish(pixel, result);
     return;
   }
   float binWidth = pMax / float(nPhi());
@@ -237,10 +265,12 @@ void main() {
     int binLo = min(int(lo / binWidth), nPhi() - 1), binHi = min(int(hi / binWidth), nPhi() - 1);
     float lit = 0.0;
     for (int b = binLo; b <= binHi; ++b) {
+      ++workBins;
       int layer = b >> 7;
       if (layer != cachedLayer) {
         bits = texelFetch(voxels, ivec3(col, row, layer), 0);
         cachedLayer = layer;
+        ++workFetches;
       }
       uint word = bits[(b >> 5) & 3];
       if (((word >> uint(b & 31)) & 1u) != 0u) continue;
@@ -248,6 +278,7 @@ void main() {
       lit += max(overlap, 0.0);
     }
     if (lit <= 0.0) continue;
+    ++workEvals;
     float phi = lo + 0.5 * h;
     float sinSum = max(sin(alpha + phi), 1e-12);
     float s = min(D * sin(phi) / sinSum, dist);
@@ -256,6 +287,5 @@ void main() {
     float cosTheta = dot(lightTravelDir(x), -dir);
     sum += (lit / h) * exp(-sigmaT() * s) * phase(cosTheta) * lightIncident(x) * jacobian;
   }
-  vec3 result = sum * sigmaS() * h;
-  outInscatter = vec4(all(lessThan(abs(result), vec3(3.0e38))) ? result : vec3(0.0), 1.0);
+  finish(pixel, sum * sigmaS() * h);
 }

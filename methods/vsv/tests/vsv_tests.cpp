@@ -380,5 +380,35 @@ TEST_F(VsvTest, FusedVoxelizerEqualsPointsThenScan) {
   }
 }
 
+TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
+  // Without shadow casters no voxel is in shadow; with them some are, and Compute L_s evaluates the
+  // light twice per group of 16 bins it visits.
+  Scene scene = loadScene("spheres");
+  RunOptions options;
+  options.width = 64;
+  options.height = 48;
+  options.frames = 1;
+  options.warmup = 0;
+  options.workCounters = true;
+  MethodRun shadowed = renderScene(scene, "vsv:sm=512", options);
+  options.shadowCasters = false;
+  MethodRun open = renderScene(scene, "vsv:sm=512", options);
+  ASSERT_EQ(open.status, RunStatus::Success) << open.reason;
+  ASSERT_EQ(shadowed.status, RunStatus::Success) << shadowed.reason;
+  EXPECT_EQ(open.stats.at("vsv_shadowed_voxels"), 0.0);
+  EXPECT_GT(shadowed.stats.at("vsv_shadowed_voxels"), 0.0);
+  EXPECT_LT(shadowed.stats.at("vsv_shadowed_voxel_fraction"), 1.0);
+  const auto& c = shadowed.stats;
+  EXPECT_DOUBLE_EQ(c.at("vsv_pixels"), 64.0 * 48.0);
+  EXPECT_GT(c.at("vsv_bins_mean"), 1.0);
+  EXPECT_GE(c.at("vsv_bins_max"), c.at("vsv_bins_mean"));
+  EXPECT_LE(c.at("vsv_bins_max"), 256.0 + 1.0);  // nPhi, and the bin the ray's end cuts
+  EXPECT_GE(c.at("vsv_light_evals_mean"), c.at("vsv_bins_mean") / 8.0);
+  EXPECT_LE(c.at("vsv_fetches_max"), 2.0 + 2.0);  // 256 bins: two 128-bit layers, the cut bin, the tail
+  std::printf("spheres 64x48: bins per pixel %.1f (max %.0f), light evaluations %.1f, fetches %.2f; %.0f voxels in shadow (%.1f%%)\n",
+              c.at("vsv_bins_mean"), c.at("vsv_bins_max"), c.at("vsv_light_evals_mean"), c.at("vsv_fetches_mean"),
+              c.at("vsv_shadowed_voxels"), 100.0 * c.at("vsv_shadowed_voxel_fraction"));
+}
+
 }  // namespace
 }  // namespace vs::testing
