@@ -1,6 +1,7 @@
 // The project's method registry, and shorthands that use it for programs and tests.
 #pragma once
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -39,26 +40,43 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
 struct Spread {
   double median = 0, lo = 0, hi = 0;
 };
-// Runs every spec `rounds` times in turn (A B C, A B C, ...) so that each sees the same machine,
-// and gives per spec the spread of figure(run) over the rounds (zeros for a spec that fails).
-inline std::vector<Spread> measureInterleaved(const Scene& scene, const std::vector<std::string>& specs,
-                                              const gl::Limits& limits, int width, int height, int frames, int rounds,
-                                              const std::function<double(const MethodRun&)>& figure) {
-  std::vector<std::vector<double>> values(specs.size());
+// Runs every spec `rounds` times in turn (A B C, A B C, ...) so that each sees the same machine
+// and no row pays for being first; per spec its successful runs in round order.
+inline std::vector<std::vector<MethodRun>> runInterleaved(const Scene& scene, const std::vector<std::string>& specs,
+                                                          const gl::Limits& limits, int width, int height, int frames,
+                                                          int rounds) {
+  std::vector<std::vector<MethodRun>> runs(specs.size());
   for (int round = 0; round < rounds; ++round)
     for (size_t i = 0; i < specs.size(); ++i) {
       MethodRun run = benchmarkSpec(scene, specs[i], limits, width, height, frames);
-      if (run.status == RunStatus::Success) values[i].push_back(figure(run));
+      run.inscatter = Image();  // the timings are what is kept
+      run.final = Image();
+      if (run.status == RunStatus::Success) runs[i].push_back(std::move(run));
     }
-  std::vector<Spread> out(specs.size());
-  for (size_t i = 0; i < specs.size(); ++i) {
-    std::vector<double>& v = values[i];
-    if (v.empty()) continue;
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    out[i] = {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
-  }
+  return runs;
+}
+// The spread of figure(run) over the runs of one spec (zeros without any).
+inline Spread spreadOf(const std::vector<MethodRun>& runs, const std::function<double(const MethodRun&)>& figure) {
+  std::vector<double> v;
+  for (const MethodRun& run : runs) v.push_back(figure(run));
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  size_t n = v.size();
+  return {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
+}
+inline std::vector<Spread> measureInterleaved(const Scene& scene, const std::vector<std::string>& specs,
+                                              const gl::Limits& limits, int width, int height, int frames, int rounds,
+                                              const std::function<double(const MethodRun&)>& figure) {
+  std::vector<Spread> out;
+  for (const auto& runs : runInterleaved(scene, specs, limits, width, height, frames, rounds))
+    out.push_back(spreadOf(runs, figure));
   return out;
+}
+// "12.3 [11.9–13.0]": a spread as a table cell.
+inline std::string spreadCell(const Spread& s) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.1f [%.1f–%.1f]", s.median, s.lo, s.hi);
+  return text;
 }
 inline Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
                                  int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "") {

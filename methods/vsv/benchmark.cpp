@@ -1,9 +1,11 @@
 // vsv_benchmark: equal quality against raymarch, and the paper's Tables 2 and 3 (pass times
 // against shadow-map size and against N_theta), printed with the renderer string.
-// Usage: vsv_benchmark [WxH] (default 256x192); 3 measured frames per row.
+// Usage: vsv_benchmark [WxH] (default 256x192); 3 measured frames per run, Tables 2 and 3 over 3
+// interleaved rounds.
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
@@ -61,27 +63,48 @@ int main(int argc, char** argv) {
   std::printf("| scene | Surface Shadows ms | final relMSE surface=1 | final relMSE surface=0 |\n|---|---|---|---|\n%s",
               surfaceRows.c_str());
 
+  // Tables 2 and 3: every row's runs measured in turn over kRounds rounds (no row pays for being
+  // first); each cell the median over the rounds of the runs' pass medians, [min–max] beside it.
+  const int kRounds = 3;
   Scene scene = loadScene("room");
-  Runner runner(scene, limits, options);
+  auto cell = [](const std::vector<MethodRun>& runs, const char* pass) {
+    return spreadCell(spreadOf(runs, [pass](const MethodRun& r) { return r.passMs(pass); }));
+  };
   std::printf("\n## Table 2 (room): pass times (ms) against shadow-map size, vsv defaults with the paper's voxelizer (fused=0), and fused\n");
+  std::printf("Each cell: median over %d interleaved rounds of the pass's median over 3 frames, [min–max] over the rounds.\n", kRounds);
   std::printf("| SM size | Shadow Map | G Buffer | Voxelize: From SM | Scan VSV | Compute L_s | fused Voxelize: From SM |\n|---|---|---|---|---|---|---|\n");
-  for (int sm = 512; sm <= 8192; sm *= 2) {
-    if (sm > limits.maxCubeMapSize) break;
-    MethodRun r = runSpec(runner, limits, "vsv:fused=0:sm=" + std::to_string(sm));
-    MethodRun fused = runSpec(runner, limits, "vsv:fused=1:sm=" + std::to_string(sm));
-    std::printf("| %d^2 | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", sm, r.passMs("Shadow Map"), r.passMs("G Buffer"),
-                r.passMs("Voxelize: From SM"), r.passMs("Scan VSV"), r.passMs("Compute L_s"), fused.passMs("Voxelize: From SM"));
-    std::fflush(stdout);
+  std::vector<int> smSizes;
+  std::vector<std::string> specs;
+  for (int sm = 512; sm <= 8192 && sm <= limits.maxCubeMapSize; sm *= 2) {
+    smSizes.push_back(sm);
+    specs.push_back("vsv:fused=0:sm=" + std::to_string(sm));
+    specs.push_back("vsv:fused=1:sm=" + std::to_string(sm));
   }
+  auto runs = runInterleaved(scene, specs, limits, width, height, options.frames, kRounds);
+  for (size_t i = 0; i < smSizes.size(); ++i) {
+    const auto &r = runs[2 * i], &fused = runs[2 * i + 1];
+    std::printf("| %d^2 | %s | %s | %s | %s | %s | %s |\n", smSizes[i], cell(r, "Shadow Map").c_str(), cell(r, "G Buffer").c_str(),
+                cell(r, "Voxelize: From SM").c_str(), cell(r, "Scan VSV").c_str(), cell(r, "Compute L_s").c_str(),
+                cell(fused, "Voxelize: From SM").c_str());
+  }
+  std::fflush(stdout);
   std::printf("\n## Table 3 (room): pass times (ms) against N_theta (sm=1024; From SM with the paper's voxelizer, fused=0, and fused)\n");
+  std::printf("Each cell: median over %d interleaved rounds, [min–max] over the rounds.\n", kRounds);
   std::printf("| theta | Voxelize: From SM | Voxelize: Geometry | Scan VSV | Compute L_s | fused Voxelize: From SM |\n|---|---|---|---|---|---|\n");
+  std::vector<int> thetas;
+  specs.clear();
   for (int theta = 128; theta <= 2048; theta *= 2) {
-    MethodRun sm = runSpec(runner, limits, "vsv:sm=1024:fused=0:theta=" + std::to_string(theta));
-    MethodRun fused = runSpec(runner, limits, "vsv:sm=1024:fused=1:theta=" + std::to_string(theta));
-    MethodRun geo = runSpec(runner, limits, "vsv:sm=1024:vox=geom:theta=" + std::to_string(theta));
-    std::printf("| %d | %.1f | %.1f | %.1f | %.1f | %.1f |\n", theta, sm.passMs("Voxelize: From SM"),
-                geo.passMs("Voxelize: Geometry"), sm.passMs("Scan VSV"), sm.passMs("Compute L_s"), fused.passMs("Voxelize: From SM"));
-    std::fflush(stdout);
+    thetas.push_back(theta);
+    specs.push_back("vsv:sm=1024:fused=0:theta=" + std::to_string(theta));
+    specs.push_back("vsv:sm=1024:fused=1:theta=" + std::to_string(theta));
+    specs.push_back("vsv:sm=1024:vox=geom:theta=" + std::to_string(theta));
+  }
+  runs = runInterleaved(scene, specs, limits, width, height, options.frames, kRounds);
+  for (size_t i = 0; i < thetas.size(); ++i) {
+    const auto &sm = runs[3 * i], &fused = runs[3 * i + 1], &geo = runs[3 * i + 2];
+    std::printf("| %d | %s | %s | %s | %s | %s |\n", thetas[i], cell(sm, "Voxelize: From SM").c_str(),
+                cell(geo, "Voxelize: Geometry").c_str(), cell(sm, "Scan VSV").c_str(), cell(sm, "Compute L_s").c_str(),
+                cell(fused, "Voxelize: From SM").c_str());
   }
   return 0;
 }
