@@ -1,6 +1,7 @@
 // minmax_benchmark: the paper's equal-quality comparison (Chen et al. 2011, Table 1 / Fig. 6) on the
 // built-in scenes room, trees and terrain, a shadow-map resolution sweep, and the pass breakdown.
 // Usage: minmax_benchmark [WIDTHxHEIGHT] (default 256x192). Prints tables; not a test.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -79,32 +80,71 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
 
-  std::printf("\n== Shadow-map resolution: minmax scattering time (ms) ==\n");
-  std::printf("%-8s %10s %10s %10s\n", "scene", "1K", "2K", "4K");
+  // The tables below: every figure the median of kRounds rounds, the rows measured in turn in
+  // each round (no row pays for being first), [min-max] over the rounds beside it.
+  const int kRounds = 3;
+  auto scatterOf = [](const MethodRun& r) {
+    double ms = 0.0;
+    for (const auto& [name, stats] : r.passStats)
+      if (std::find(kSharedPasses.begin(), kSharedPasses.end(), name) == kSharedPasses.end()) ms += stats.medianMs;
+    return ms;
+  };
+  auto cell = [](const Spread& s) {
+    char text[48];
+    std::snprintf(text, sizeof text, "%.1f [%.1f-%.1f]", s.median, s.lo, s.hi);
+    return std::string(text);
+  };
+
+  std::printf("\n== Shadow-map resolution: minmax scattering time (ms), median [min-max] of %d interleaved rounds ==\n",
+              kRounds);
+  std::printf("%-8s %20s %20s %20s\n", "scene", "1K", "2K", "4K");
   for (const auto& name : scenes) {
     Scene scene = loadScene(name);
+    std::vector<std::string> specs = {"minmax:sm=1024", "minmax:sm=2048", "minmax:sm=4096"};
+    auto ms = measureInterleaved(scene, specs, limits, w, h, 2, kRounds, scatterOf);
     std::printf("%-8s", name.c_str());
-    for (int sm : {1024, 2048, 4096}) {
-      Measured m = measure(scene, "minmax:sm=" + std::to_string(sm), limits, w, h, 2, nullptr);
-      std::printf(" %10.1f", m.scatterMs);
-      std::fflush(stdout);
-    }
+    for (const Spread& t : ms) std::printf(" %20s", cell(t).c_str());
     std::printf("\n");
+    std::fflush(stdout);
   }
 
-  std::printf("\n== Pass breakdown at sm=1024 (ms, layout of Table 1) ==\n");
+  // Rows of the pass breakdown: the three scenes, and room under a textured light (a checker gobo
+  // on its light), which adds Light Texture Precomputation and per-slice prefix tables (§4.2).
+  std::vector<std::pair<std::string, Scene>> rows;
+  for (const auto& name : scenes) rows.emplace_back(name, loadScene(name));
+  Scene textured = loadScene("room");
+  textured.light.textureWidth = textured.light.textureHeight = 16;
+  textured.light.textureRGB.resize(16 * 16 * 3);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int c = 0; c < 3; ++c)
+        textured.light.textureRGB[size_t((y * 16 + x) * 3 + c)] = ((x / 4 + y / 4) % 2 == 0) ? 1.0f : 0.25f;
+  rows.emplace_back("room+tex", std::move(textured));
+  std::vector<std::vector<MethodRun>> runs(rows.size());
+  for (int round = 0; round < kRounds; ++round)
+    for (size_t i = 0; i < rows.size(); ++i) {
+      MethodRun r = benchmarkSpec(rows[i].second, "minmax:sm=1024", limits, w, h, 3);
+      if (r.status == RunStatus::Success) runs[i].push_back(std::move(r));
+      else std::printf("  %s: %s\n", rows[i].first.c_str(), r.reason.c_str());
+    }
+
+  std::printf("\n== Pass breakdown at sm=1024 (ms, layout of Table 1), median [min-max] of %d interleaved rounds ==\n",
+              kRounds);
   const std::vector<std::pair<std::string, std::string>> columns = {
       {"Shadow Map", "ShadowMap"},      {"Shadow Map Rectification", "Rectify"}, {"Low-Rank Approximation", "LowRank"},
       {"Light Texture Precomputation", "LightTex"}, {"Mipmap Construction", "Mipmap"}, {"Integration", "Integrate"},
       {"Near Epipole", "NearEpi"}};
-  std::printf("%-8s", "scene");
-  for (const auto& c : columns) std::printf(" %10s", c.second.c_str());
-  std::printf(" %10s %10s\n", "Scatter", "Frame");
-  for (const auto& name : scenes) {
-    const Measured& m = minmaxRuns[name];
-    std::printf("%-8s", name.c_str());
-    for (const auto& c : columns) std::printf(" %10.1f", m.run.passMs(c.first));
-    std::printf(" %10.1f %10.1f\n", m.scatterMs, m.run.frame.medianMs);
+  std::printf("%-9s", "scene");
+  for (const auto& c : columns) std::printf(" %18s", c.second.c_str());
+  std::printf(" %18s %18s\n", "Scatter", "Frame");
+  for (size_t i = 0; i < rows.size(); ++i) {
+    std::printf("%-9s", rows[i].first.c_str());
+    for (const auto& c : columns) {
+      const std::string pass = c.first;
+      std::printf(" %18s", cell(spreadOf(runs[i], [&pass](const MethodRun& r) { return r.passMs(pass); })).c_str());
+    }
+    std::printf(" %18s %18s\n", cell(spreadOf(runs[i], scatterOf)).c_str(),
+                cell(spreadOf(runs[i], [](const MethodRun& r) { return r.frame.medianMs; })).c_str());
   }
   return 0;
 }
