@@ -684,4 +684,11 @@ int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& r
   return reportingErrors([&] { return runChecked(request, shootout, registry); });
 }
 
+std::string provenanceLine(const ContextInfo& info) {
+  json b = buildInfo();
+  return info.glRenderer + " (" + info.glVersion + "); revision " + buildGitSha() + "; " + isoDateUtc() + "; " +
+         b["type"].get<std::string>() + " build, " + b["compiler"].get<std::string>() + ", sanitizers " +
+         b["sanitizers"].get<std::string>();
+}
+
 }  // namespace vs

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/context.hpp"
 #include "method.hpp"
 
 namespace vs {
@@ -30,6 +31,10 @@ struct RunRequest {
   std::string commandLine;
 };
 
+// One line of provenance for a benchmark's output: renderer, revision, date and build, e.g.
+// "llvmpipe (LLVM 15.0.6, 256 bits) (4.5 (Core Profile) Mesa 22.3.6); revision 0123abcd4567;
+// 2026-12-02T01:00:00Z; Release build, GNU 12.2.0, sanitizers none".
+std::string provenanceLine(const ContextInfo& info);
 // "WxH" into width and height; UsageError for anything else.
 void parseSize(const std::string& text, int& w, int& h);
 int listCommand(const MethodRegistry& registry);

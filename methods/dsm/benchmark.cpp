@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/app.hpp"
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
   gl::Limits limits = gl::queryLimits();
   std::printf("# dsm: deep shadow maps, measured\n\n");
   std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 6 minutes on 2 cores).\n\n");
-  std::printf("- renderer: %s (%s)\n", context.info().glRenderer.c_str(), context.info().glVersion.c_str());
+  std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
   std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
   std::printf("- scattering time: DSM Generation + Volume March (dsm), Ray Marching (raymarch); the shared\n"

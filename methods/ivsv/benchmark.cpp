@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/app.hpp"
 #include "harness/context.hpp"
 #include "harness/ground_truth.hpp"
 #include "harness/image.hpp"
@@ -90,7 +91,7 @@ int main(int argc, char** argv) {
   std::printf("# ivsv: imperfect voxelized shadow volumes, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce ivsv` (build/methods/ivsv/ivsv_benchmark --images results/ivsv > "
               "results/ivsv/README.md, about 3 minutes on 2 cores).\n\n");
-  std::printf("- renderer: %s (%s)\n", context.info().glRenderer.c_str(), context.info().glVersion.c_str());
+  std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
   std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
   std::printf("- reference: `%s`. Its light samples are not the VPLs of any row, so each row's light-sampling "

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/app.hpp"
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
@@ -52,7 +53,7 @@ int main(int argc, char** argv) {
   GlContext context(false);
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
-  std::printf("GL renderer: %s (%s)\n", context.info().glRenderer.c_str(), context.info().glVersion.c_str());
+  std::printf("provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("image %dx%d, wall-clock pass timer (glFinish-bracketed), medians of 3 frames after 1 warm-up\n", w, h);
   std::printf("reference: raymarch steps=4096 at the same shadow map; scattering time = the method's own passes\n\n");
 

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/app.hpp"
 #include "harness/context.hpp"
 #include "harness/ground_truth.hpp"
 #include "harness/metrics.hpp"
@@ -124,7 +125,7 @@ int main(int argc, char** argv) {
   gl::Limits limits = gl::queryLimits();
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 25 minutes on 2 cores).\n\n");
-  std::printf("- renderer: %s (%s)\n", context.info().glRenderer.c_str(), context.info().glVersion.c_str());
+  std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"
               "  the shared passes (Shadow Map, Transmittance Map, G Buffer, Direct Lighting, Composite) and slicemap's\n"

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/app.hpp"
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
@@ -22,8 +23,8 @@ int main(int argc, char** argv) {
   if (argc > 1) std::sscanf(argv[1], "%dx%d", &width, &height);
   GlContext context(false);
   gl::Limits limits = gl::queryLimits();
-  std::printf("renderer: %s | %s | %dx%d, 3 frames after 1 warm-up, medians\n", context.info().glRenderer.c_str(),
-              context.info().glVersion.c_str(), width, height);
+  std::printf("provenance: %s\n%dx%d, 3 frames after 1 warm-up, medians\n", provenanceLine(context.info()).c_str(), width,
+              height);
   RunOptions options;
   options.width = width;
   options.height = height;
