@@ -144,8 +144,9 @@ TEST_F(VolumeTest, OnlyMethodsWithVolumeDataRunIt) {
       EXPECT_EQ(rows[i][col("status")], "Unsupported");
       // The reason names volume data, unless something else (the light type) is missing first.
       caps.volumeData = true;
-      if (missingCapability(caps, effects).empty())
+      if (missingCapability(caps, effects).empty()) {
         EXPECT_NE(rows[i][col("reason")].find("volume data"), std::string::npos) << rows[i][col("reason")];
+      }
       ++unsupported;
     }
   }
