@@ -90,13 +90,8 @@ int main(int argc, char** argv) {
       if (std::find(kSharedPasses.begin(), kSharedPasses.end(), name) == kSharedPasses.end()) ms += stats.medianMs;
     return ms;
   };
-  auto cell = [](const Spread& s) {
-    char text[48];
-    std::snprintf(text, sizeof text, "%.1f [%.1f-%.1f]", s.median, s.lo, s.hi);
-    return std::string(text);
-  };
 
-  std::printf("\n== Shadow-map resolution: minmax scattering time (ms), median [min-max] of %d interleaved rounds ==\n",
+  std::printf("\n== Shadow-map resolution: minmax scattering time (ms), median [min–max] of %d interleaved rounds ==\n",
               kRounds);
   std::printf("%-8s %20s %20s %20s\n", "scene", "1K", "2K", "4K");
   for (const auto& name : scenes) {
@@ -104,7 +99,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> specs = {"minmax:sm=1024", "minmax:sm=2048", "minmax:sm=4096"};
     auto ms = measureInterleaved(scene, specs, limits, w, h, 2, kRounds, scatterOf);
     std::printf("%-8s", name.c_str());
-    for (const Spread& t : ms) std::printf(" %20s", cell(t).c_str());
+    for (const Spread& t : ms) std::printf(" %20s", spreadCell(t).c_str());
     std::printf("\n");
     std::fflush(stdout);
   }
@@ -129,7 +124,7 @@ int main(int argc, char** argv) {
       else std::printf("  %s: %s\n", rows[i].first.c_str(), r.reason.c_str());
     }
 
-  std::printf("\n== Pass breakdown at sm=1024 (ms, layout of Table 1), median [min-max] of %d interleaved rounds ==\n",
+  std::printf("\n== Pass breakdown at sm=1024 (ms, layout of Table 1), median [min–max] of %d interleaved rounds ==\n",
               kRounds);
   const std::vector<std::pair<std::string, std::string>> columns = {
       {"Shadow Map", "ShadowMap"},      {"Shadow Map Rectification", "Rectify"}, {"Low-Rank Approximation", "LowRank"},
@@ -142,10 +137,10 @@ int main(int argc, char** argv) {
     std::printf("%-9s", rows[i].first.c_str());
     for (const auto& c : columns) {
       const std::string pass = c.first;
-      std::printf(" %18s", cell(spreadOf(runs[i], [&pass](const MethodRun& r) { return r.passMs(pass); })).c_str());
+      std::printf(" %18s", spreadCell(spreadOf(runs[i], [&pass](const MethodRun& r) { return r.passMs(pass); })).c_str());
     }
-    std::printf(" %18s %18s\n", cell(spreadOf(runs[i], scatterOf)).c_str(),
-                cell(spreadOf(runs[i], [](const MethodRun& r) { return r.frame.medianMs; })).c_str());
+    std::printf(" %18s %18s\n", spreadCell(spreadOf(runs[i], scatterOf)).c_str(),
+                spreadCell(spreadOf(runs[i], [](const MethodRun& r) { return r.frame.medianMs; })).c_str());
   }
   return 0;
 }

@@ -280,11 +280,6 @@ int main(int argc, char** argv) {
               rounds, frames);
   std::printf("| scene | slicemap params | relMSE | ms | uniform steps | ms | equiangular steps | ms | speedup | range |\n"
               "|---|---|---|---|---|---|---|---|---|---|\n");
-  auto formatSpread = [](const Spread& t) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.1f (%.1f–%.1f)", t.median, t.lo, t.hi);
-    return std::string(text);
-  };
   for (auto* entry : {&foliage, &chestnut}) {
     const Scene& scene = *entry;
     const char* name = entry == &foliage ? "foliage" : "chestnut";
@@ -319,12 +314,12 @@ int main(int argc, char** argv) {
           continue;
         }
         const Spread& t = ms[next++];
-        cells += "| " + std::to_string(stepsFound[k]) + " | " + formatSpread(t) + " ";
+        cells += "| " + std::to_string(stepsFound[k]) + " | " + spreadCell(t) + " ";
         if (best.median == 0.0 || t.median < best.median) best = t;
       }
       const Spread& own = ms[0];
       std::printf("| %s | %s | %.2e | %s %s| %.2fx | %.2f–%.2fx |\n", name, *params ? params : "defaults", m.relmse,
-                  formatSpread(own).c_str(), cells.c_str(), best.median / std::max(own.median, 1e-9),
+                  spreadCell(own).c_str(), cells.c_str(), best.median / std::max(own.median, 1e-9),
                   best.lo / std::max(own.hi, 1e-9), best.hi / std::max(own.lo, 1e-9));
       std::fflush(stdout);
     }
