@@ -21,6 +21,7 @@ struct DsmUniforms {
   glm::mat4 faceInvViewProj[6];
   glm::vec4 params;  // resolution, faces, knots
   glm::vec4 thresholds[4];
+  glm::vec4 knotTaus[4];  // -ln(1 - threshold)
 };
 
 namespace dsm {
@@ -129,6 +130,10 @@ std::vector<ParamSpec> DsmMethod::params() const {
           ParamSpec::real("last", 0.9, 0.001, 0.999, "opacity threshold of the last knot (knots evenly spaced between)"),
           ParamSpec::choice("interp", "linear", {"linear", "smoothstep", "bucket"},
                             "crossing depth between two steps: linear in opacity, smoothstep (the paper), bucket (step before)"),
+          ParamSpec::choice("segments", "exponential", {"linear", "exponential"},
+                            "visibility between knots: linear in opacity (the paper, Lokovic and Veach) or in optical depth (exact in homogeneous stretches)"),
+          ParamSpec::choice("thresholds", "relative", {"absolute", "relative"},
+                            "knot thresholds: fixed opacities (the paper), or fractions first..last of each ray's final opacity (optical depth with segments=exponential)"),
           ParamSpec::choice("filter", "hardware", {"hardware", "texels"},
                             "lookup: one bilinear lookup of the knots (the paper), or the four nearest texels' visibility functions blended"),
           ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
@@ -136,10 +141,10 @@ std::vector<ParamSpec> DsmMethod::params() const {
 }
 
 std::vector<std::string> DsmMethod::qualityLadder() const {
-  return {"res=128:gen_step=2:view_steps=32:haze_steps=16", "res=256:gen_step=1:view_steps=64:haze_steps=32",
+  return {"res=128:gen_step=2:view_steps=32:haze_steps=16", "res=256:gen_step=1:view_steps=32:haze_steps=64",
           "res=512:gen_step=0.5:view_steps=128:haze_steps=64",
-          "res=512:gen_step=0.5:view_steps=128:haze_steps=64:knots=8",
-          "res=512:gen_step=0.25:view_steps=256:haze_steps=128:knots=16"};
+          "res=512:gen_step=0.5:view_steps=64:haze_steps=128:knots=8",
+          "res=512:gen_step=0.25:view_steps=128:haze_steps=256:knots=16"};
 }
 
 // Samples DSM Generation takes per frame: the shader's span and step count, texel by texel.
@@ -220,6 +225,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   std::string interp = params.getString("interp");
   bool hardwareFilter = params.getString("filter") == "hardware";
   int interpCode = interp == "smoothstep" ? 1 : interp == "bucket" ? 2 : 0;
+  bool exponential = params.getString("segments") == "exponential";
+  bool relative = params.getString("thresholds") == "relative";
 
   glm::vec3 lo, hi;
   unionBox(context.scene, lo, hi);
@@ -232,7 +239,10 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   }
   uniforms.params = glm::vec4(float(resolution_), float(views_.faces), float(knots_), 0.0f);
   std::vector<float> t = dsm::knotThresholds(knots_, float(params.getFloat("first")), float(params.getFloat("last")));
-  for (int k = 0; k < knots_; ++k) uniforms.thresholds[k / 4][k % 4] = t[size_t(k)];
+  for (int k = 0; k < knots_; ++k) {
+    uniforms.thresholds[k / 4][k % 4] = t[size_t(k)];
+    uniforms.knotTaus[k / 4][k % 4] = -std::log(std::max(1.0f - t[size_t(k)], 1e-30f));
+  }
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms, 0);
 
   GLuint id = 0;
@@ -256,7 +266,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
 
   std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
-                        (hardwareFilter ? "1" : "0") + "\n";
+                        (hardwareFilter ? "1" : "0") + "\n#define DSM_SEGMENTS " + (exponential ? "1" : "0") +
+                        "\n#define DSM_RELATIVE " + (relative ? "1" : "0") + "\n#define DSM_FACES " + std::to_string(views_.faces) + "\n";
   generateProgram_ = gl::buildFullscreen("methods/dsm/shaders/generate.frag",
                                          defines + "#define GEN_STEPS " + std::to_string(genSteps_) +
                                              "\n#define GEN_STEP_VOXELS " + std::to_string(genStep_) +

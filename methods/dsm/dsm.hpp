@@ -34,7 +34,7 @@ class DsmMethod : public Method {
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> qualityLadder() const override;
   std::vector<std::string> approximations() const override {
-    return {"volume transmittance piecewise linear between opacity knots"};
+    return {"volume transmittance interpolated between opacity knots (linear in opacity or in optical depth)"};
   }
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   bool needsSharedShadowMap() const override { return needsSharedShadowMap_; }

@@ -7,10 +7,38 @@ layout(std140, binding = 4) uniform DsmBlock {
   mat4 faceInvViewProj[6];
   vec4 params;         // x resolution, y faces (1 or 6), z knots
   vec4 thresholds[4];  // opacity of knot k in thresholds[k / 4][k % 4]
+  vec4 knotTaus[4];    // its optical depth -ln(1 - opacity), same layout
 } dsm;
 layout(binding = 10) uniform sampler2DArray dsmKnots;  // layer = face * DSM_LAYERS + j
 
+#if DSM_FACES == 1
+mat4 faceViewProj(int face) { return dsm.faceViewProj[0]; }
+#else
+mat4 faceViewProj(int face) { return dsm.faceViewProj[face]; }
+#endif
+
 float knotThreshold(int k) { return dsm.thresholds[k >> 2][k & 3]; }
+
+// What is interpolated between knots (DSM_SEGMENTS): 0 opacity (the paper, Lokovic and Veach:
+// piecewise-linear visibility), 1 optical depth (piecewise-exponential visibility, exact in a
+// homogeneous stretch). knotValue/finalValue map a knot's and the final opacity there, and
+// valueOpacity maps back.
+#if DSM_SEGMENTS == 1
+float knotValue(int k) { return dsm.knotTaus[k >> 2][k & 3]; }
+float finalValue(float final) { return -log(max(1.0 - final, 1e-30)); }
+float valueOpacity(float v) { return 1.0 - exp(-v); }
+#else
+float knotValue(int k) { return knotThreshold(k); }
+float finalValue(float final) { return final; }
+float valueOpacity(float v) { return v; }
+#endif
+// Value of knot k on a ray whose final value is `last`: a fixed threshold (the paper), or with
+// DSM_RELATIVE a fixed fraction of the final value, so that thin rays use every knot too.
+#if DSM_RELATIVE == 1
+float knotAt(int k, float last) { return knotThreshold(k) * last; }
+#else
+float knotAt(int k, float last) { return knotValue(k); }
+#endif
 
 // Distance of x from the light along the light's rays.
 float lightDepth(vec3 x) {
@@ -48,9 +76,12 @@ vec2 volumeSpan(vec3 origin, vec3 dir, float tMinRay) {
   return span;
 }
 
-// DSM face holding x (the major axis around the light for six faces).
+// DSM face holding x (the major axis around the light for six faces). DSM_FACES is the method's
+// compile-time count, so that one view reads its matrix without a per-lane index.
 int dsmFace(vec3 x) {
-  if (dsm.params.y < 1.5) return 0;
+#if DSM_FACES == 1
+  return 0;
+#endif
   vec3 d = x - u.lightPos.xyz;
   vec3 a = abs(d);
   int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
@@ -67,8 +98,9 @@ vec4 dsmLayer(ivec2 texel, vec2 uv, int face, int j) {
 #endif
 }
 
-// Opacity at depth z of one texel's visibility function: piecewise linear through (entry, 0),
-// (knot k, min(threshold k, final)), (exit, final); a knot the ray never crossed sits at the exit.
+// Opacity at depth z of one texel's visibility function, through (entry, 0),
+// (knot k, min(threshold k, final)), (exit, final), each segment linear in opacity or in optical
+// depth (DSM_SEGMENTS); a knot the ray never crossed sits at the exit.
 #if DSM_KNOTS == 3
 // The paper's layout in straight-line code (no local arrays: they cost llvmpipe a memory round trip).
 float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float exit) {
@@ -76,13 +108,14 @@ float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float e
   float final = v.w;
   if (final <= 0.0 || z <= entry) return 0.0;
   float d0 = max(v.x, entry), d1 = max(v.y, d0), d2 = max(v.z, d1), d3 = max(exit, d2);
-  vec3 a = min(vec3(knotThreshold(0), knotThreshold(1), knotThreshold(2)), vec3(final));
+  float last = finalValue(final);
+  vec3 a = min(vec3(knotAt(0, last), knotAt(1, last), knotAt(2, last)), vec3(last));
   float lo = entry, hi = d0, aLo = 0.0, aHi = a.x;
   if (z > d0) { lo = d0; hi = d1; aLo = a.x; aHi = a.y; }
   if (z > d1) { lo = d1; hi = d2; aLo = a.y; aHi = a.z; }
-  if (z > d2) { lo = d2; hi = d3; aLo = a.z; aHi = final; }
+  if (z > d2) { lo = d2; hi = d3; aLo = a.z; aHi = last; }
   if (z > d3) return final;
-  return mix(aLo, aHi, clamp((z - lo) / max(hi - lo, 1e-20), 0.0, 1.0));
+  return valueOpacity(mix(aLo, aHi, clamp((z - lo) / max(hi - lo, 1e-20), 0.0, 1.0)));
 }
 #else
 float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float exit) {
@@ -96,20 +129,21 @@ float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float e
   }
   float final = values[DSM_KNOTS];
   if (final <= 0.0 || z <= entry) return 0.0;
-  float prevDepth = entry, prevOpacity = 0.0, opacity = final;
+  float last = finalValue(final);
+  float prevDepth = entry, prevValue = 0.0, result = last;
   bool found = false;
   for (int k = 0; k <= DSM_KNOTS; ++k) {
     float depth = k < DSM_KNOTS ? max(values[k], prevDepth) : max(exit, prevDepth);
-    float value = k < DSM_KNOTS ? min(knotThreshold(k), final) : final;
+    float value = k < DSM_KNOTS ? min(knotAt(k, last), last) : last;
     if (!found && z <= depth) {
       float w = clamp((z - prevDepth) / max(depth - prevDepth, 1e-20), 0.0, 1.0);
-      opacity = mix(prevOpacity, value, w);
+      result = mix(prevValue, value, w);
       found = true;
     }
     prevDepth = depth;
-    prevOpacity = value;
+    prevValue = value;
   }
-  return opacity;
+  return found ? valueOpacity(result) : final;
 }
 #endif
 
@@ -118,7 +152,7 @@ float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float e
 // from one hardware-filtered lookup (DSM_FILTER 1).
 float dsmTransmittance(vec3 x) {
   int face = dsmFace(x);
-  vec4 p = dsm.faceViewProj[face] * vec4(x, 1.0);
+  vec4 p = faceViewProj(face) * vec4(x, 1.0);
   if (p.w <= 1e-20) return 1.0;
   float size = dsm.params.x;
   vec2 st = (p.xy / p.w * 0.5 + 0.5) * size - 0.5;
@@ -143,4 +177,39 @@ float dsmTransmittance(vec3 x) {
   float a = mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
 #endif
   return clamp(1.0 - a, 0.0, 1.0);
+}
+
+// Transmittance at a point outside every volume box (the camera ray's haze samples). Along its
+// light ray the point is in front of the volumes (1) or behind them (the ray's final
+// transmittance), so one value per texel is read and no knots are evaluated. With several boxes a
+// point can lie between them: the full lookup.
+float dsmTransmittanceOutside(vec3 x) {
+#if VS_VOLUMES > 1
+  return dsmTransmittance(x);
+#else
+  int face = dsmFace(x);
+  vec4 p = faceViewProj(face) * vec4(x, 1.0);
+  if (p.w <= 1e-20) return 1.0;
+  float size = dsm.params.x;
+  vec2 st = (p.xy / p.w * 0.5 + 0.5) * size - 0.5;
+  if (any(lessThan(st, vec2(-0.5))) || any(greaterThan(st, vec2(size - 0.5)))) return 1.0;
+  vec3 origin, dir;
+  lightRayThrough(x, origin, dir);
+  vec2 span = volumeSpan(origin, dir, lightRayStart());
+  float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
+  if (span.x >= span.y || lightDepth(x) <= base + 0.5 * (span.x + span.y)) return 1.0;
+  const int finalLayer = DSM_KNOTS / 4, finalSlot = DSM_KNOTS % 4;
+#if DSM_FILTER == 1
+  float final = dsmLayer(ivec2(0), (st + 0.5) / size, face, finalLayer)[finalSlot];
+#else
+  vec2 f = fract(st);
+  ivec2 t0 = clamp(ivec2(floor(st)), ivec2(0), ivec2(int(size) - 1));
+  ivec2 t1 = min(t0 + 1, ivec2(int(size) - 1));
+  float final = mix(mix(dsmLayer(t0, vec2(0.0), face, finalLayer)[finalSlot],
+                        dsmLayer(ivec2(t1.x, t0.y), vec2(0.0), face, finalLayer)[finalSlot], f.x),
+                    mix(dsmLayer(ivec2(t0.x, t1.y), vec2(0.0), face, finalLayer)[finalSlot],
+                        dsmLayer(t1, vec2(0.0), face, finalLayer)[finalSlot], f.x), f.y);
+#endif
+  return clamp(1.0 - final, 0.0, 1.0);
+#endif
 }

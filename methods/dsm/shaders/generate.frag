@@ -3,7 +3,8 @@
 // (equal steps over its span through the union of the boxes, midpoint rule), accumulate
 // opacity 1 - exp(-tau), and store the depth at which it crosses each knot's threshold; the last
 // slot holds the final opacity. Interpolation of a crossing between the two steps around it:
-// linear in opacity, smoothstep (the paper's) or bucket (the depth before the crossing step).
+// linear in opacity (or in optical depth with DSM_SEGMENTS 1, exact under the midpoint rule),
+// smoothstep (the paper's) or bucket (the depth before the crossing step).
 #include "common.glsl"
 #include "dsm.glsl"
 layout(location = 0) uniform int face;
@@ -29,20 +30,33 @@ void main() {
   int steps = hit ? clamp(int(ceil(min((span.y - span.x) / max(voxel * GEN_STEP_VOXELS, 1e-30), 1e6))), 1, GEN_STEPS) : 0;
   float dt = hit ? (span.y - span.x) / float(steps) : 0.0;
   for (int k = 0; k < DSM_KNOTS; ++k) values[k] = base + (hit ? span.y : 0.0);
+  // Relative knots (DSM_RELATIVE) sit at fractions of the ray's final value: a first march finds it.
+  float lastValue = 0.0;
+#if DSM_RELATIVE == 1
+  float tauFinal = 0.0;
+  for (int i = 0; i < steps; ++i) tauFinal += volumeCoefficients(origin + dir * (span.x + (float(i) + 0.5) * dt)).y * dt;
+  lastValue = finalValue(1.0 - exp(-tauFinal));
+#endif
+  // Crossings are found in the interpolated quantity (opacity, or optical depth with DSM_SEGMENTS 1).
   float tau = 0.0, opacity = 0.0;
   uint crossed = 0u;
   for (int i = 0; i < steps; ++i) {
     float t = span.x + (float(i) + 0.5) * dt;
+    float previousTau = tau, previousOpacity = opacity;
     tau += volumeCoefficients(origin + dir * t).y * dt;
-    float previous = opacity;
     opacity = 1.0 - exp(-tau);
+#if DSM_SEGMENTS == 1
+    float previous = previousTau, current = tau;
+#else
+    float previous = previousOpacity, current = opacity;
+#endif
     float d0 = base + span.x + float(i) * dt;
     for (int k = 0; k < DSM_KNOTS; ++k) {
-      float threshold = knotThreshold(k);
-      if ((crossed & (1u << uint(k))) == 0u && opacity >= threshold && opacity > previous) {
-        float w = (threshold - previous) / max(opacity - previous, 1e-30);
+      float target = knotAt(k, lastValue);
+      if ((crossed & (1u << uint(k))) == 0u && current >= target && current > previous) {
+        float w = (target - previous) / max(current - previous, 1e-30);
 #if DSM_INTERP == 1
-        w = smoothstep(previous, opacity, threshold);
+        w = smoothstep(previous, current, target);
 #elif DSM_INTERP == 2
         w = 0.0;
 #endif

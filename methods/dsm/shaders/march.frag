@@ -9,12 +9,13 @@
 layout(location = 0) uniform int jitter;
 layout(location = 0) out vec4 outInscatter;
 
-vec3 inscatterAt(vec3 x, vec3 dir, float scattering) {
+// In-scattered radiance at x for a volume transmittance from the DSM.
+vec3 inscatterAt(vec3 x, vec3 dir, float scattering, float volumeTransmittance) {
   if (scattering <= 0.0) return vec3(0.0);
   vec3 visibility = lightVisibility(x);
   if (all(equal(visibility, vec3(0.0)))) return vec3(0.0);
   float cosTheta = dot(lightTravelDir(x), -dir);
-  return scattering * visibility * dsmTransmittance(x) * phase(cosTheta) * lightIncident(x);
+  return scattering * visibility * volumeTransmittance * phase(cosTheta) * lightIncident(x);
 }
 
 void main() {
@@ -45,14 +46,15 @@ void main() {
     tauVolume += 0.5 * (sigmaPrev + c.y) * (s - sPrev);
     sPrev = s;
     sigmaPrev = c.y;
-    sum += dtV * exp(-sigmaT() * s - tauVolume) * inscatterAt(x, dir, sigmaS() + c.x);
+    sum += dtV * exp(-sigmaT() * s - tauVolume) * inscatterAt(x, dir, sigmaS() + c.x, dsmTransmittance(x));
   }
   tauVolume += sigmaPrev * max(b - sPrev, 0.0);
 
   // Outside the span: the haze in front of the volumes [0, a) and behind them (b, dist]. Point and
   // spot lights: equiangular samples over the whole ray (weight (theta_b - theta_a) r^2 / (D N),
-  // as raymarch's sampling=equiangular), those inside the span add nothing; directional: equal
-  // steps over the two pieces.
+  // as raymarch's sampling=equiangular), those inside the span add nothing. Directional: the two
+  // pieces share the samples in proportion to length x the volumes' transmittance (known now), so
+  // that haze seen through a dense volume takes few; within a piece the samples are equal steps.
   float front = a, back = max(dist - b, 0.0), haze = front + back;
   bool angular = lightType() != LIGHT_DIRECTIONAL;
   float delta = 0.0, D = 1.0, thetaA = 0.0, thetaB = 0.0;
@@ -63,20 +65,23 @@ void main() {
     thetaA = atan(-delta, D);
     thetaB = atan(dist - delta, D);
   }
-  float dtH = haze / float(max(HAZE_STEPS, 1));
-  if (haze > 0.0 && sigmaS() > 0.0) for (int i = 0; i < HAZE_STEPS; ++i) {
+  float behind = max(exp(-tauVolume), 1e-30);
+  float measure = front + back * behind;  // samples per unit length: 1 in front, `behind` behind
+  float dtH = measure / float(max(HAZE_STEPS, 1));
+  if (haze > 0.0 && measure > 0.0 && sigmaS() > 0.0) for (int i = 0; i < HAZE_STEPS; ++i) {
     float ui = (float(i) + (jitter != 0 ? fract(offset + float(i) * 0.7548776662) : 0.5)) / float(HAZE_STEPS);
     float s, weight;
     if (angular) {
       s = clamp(delta + D * tan(mix(thetaA, thetaB, ui)), 0.0, dist);
       weight = s >= a && s <= b && inside ? 0.0 : (thetaB - thetaA) * (D * D + (s - delta) * (s - delta)) / (D * float(HAZE_STEPS));
     } else {
-      float h = ui * haze;
-      s = h < front ? h : b + (h - front);
-      weight = dtH;
+      float h = ui * measure;
+      s = h < front ? h : min(b + (h - front) / behind, dist);
+      weight = h < front ? dtH : dtH / behind;
     }
     float tau = sigmaT() * s + (s > b ? tauVolume : 0.0);
-    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(eye + dir * s, dir, sigmaS());
+    vec3 x = eye + dir * s;
+    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, sigmaS(), dsmTransmittanceOutside(x));
   }
   vec3 L = all(lessThan(abs(sum), vec3(3.0e38))) ? sum : vec3(0.0);
   outInscatter = vec4(L, exp(-tauVolume));
