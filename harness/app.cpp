@@ -153,6 +153,57 @@ double scatterMs(const MethodRun& r) {
   return total;
 }
 
+// A job's timings over interleaved rounds (--rounds): per round its frame, pass and scattering
+// figures. The row shows the median of the rounds' medians and their range.
+struct RoundTimings {
+  std::vector<TimingStats> frame;
+  std::map<std::string, std::vector<TimingStats>> passes;
+  std::vector<double> scatter;
+
+  void add(const MethodRun& r) {
+    frame.push_back(r.frame);
+    for (const auto& [pass, stats] : r.passStats) passes[pass].push_back(stats);
+    scatter.push_back(scatterMs(r));
+  }
+  int count() const { return int(frame.size()); }
+};
+
+double medianOf(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Median of the rounds' medians (and of their MdAPE), min and max over every frame, all frames.
+TimingStats combineRounds(const std::vector<TimingStats>& rounds) {
+  TimingStats out;
+  if (rounds.empty()) return out;
+  std::vector<double> medians, mdapes;
+  out.minMs = rounds.front().minMs;
+  out.maxMs = rounds.front().maxMs;
+  for (const TimingStats& r : rounds) {
+    medians.push_back(r.medianMs);
+    mdapes.push_back(r.mdapePct);
+    out.minMs = std::min(out.minMs, r.minMs);
+    out.maxMs = std::max(out.maxMs, r.maxMs);
+    out.samples += r.samples;
+  }
+  out.medianMs = medianOf(medians);
+  out.mdapePct = medianOf(mdapes);
+  return out;
+}
+
+// Range of the rounds' medians.
+std::pair<double, double> roundRange(const std::vector<TimingStats>& rounds) {
+  double lo = 0.0, hi = 0.0;
+  for (size_t i = 0; i < rounds.size(); ++i) {
+    lo = i == 0 ? rounds[i].medianMs : std::min(lo, rounds[i].medianMs);
+    hi = i == 0 ? rounds[i].medianMs : std::max(hi, rounds[i].medianMs);
+  }
+  return {lo, hi};
+}
+
 // Equal quality against brute force: ray marching (the registered reference method) with uniform
 // or equiangular steps, at the row's shadow-map size, bisected on its step count to reach the row's
 // L_s relMSE against the reference (RMSE would be decided by the few pixels next to an on-screen
@@ -379,6 +430,7 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
       {"height", plan.height},
       {"frames", req.frames},
       {"warmup", req.warmup},
+      {"rounds", req.rounds},
       {"seed", req.seed},
       {"timer",
        {{"strategy", timerStrategyName(calibration.chosen)},
@@ -438,19 +490,27 @@ class ResultFiles {
       writePng8(stem + ".error.png", r.final.width, r.final.height,
                 falseColourError(r.final, base.reference.final, 0.1f / std::max(base.exposure, 1e-20f)));
   }
+  // `rounds`: the job's timings per round (r holds their combination).
   void addRows(const ResultRow& run, const MethodRun& r, const std::string& sceneName, const std::string& timer,
-               const std::string& renderer) {
+               const std::string& renderer, const RoundTimings& rounds) {
     runs_.upsert(run);
     passes_.removeWhere({{"scene", sceneName}, {"method", r.method}, {"params", r.params}});
-    auto addPass = [&](const std::string& pass, const TimingStats& s) {
+    auto addPass = [&](const std::string& pass, const TimingStats& s, const std::vector<TimingStats>* perRound) {
       ResultRow row(passesColumns());
       row.set("scene", sceneName).set("method", r.method).set("params", r.params).set("pass", pass);
       row.set("median_ms", s.medianMs).set("min_ms", s.minMs).set("max_ms", s.maxMs).set("mdape_pct", s.mdapePct);
       row.set("frames", s.samples).set("timer", timer).set("renderer", renderer);
+      if (perRound && !perRound->empty()) {
+        auto [lo, hi] = roundRange(*perRound);
+        row.set("rounds", int(perRound->size())).set("round_min_ms", lo).set("round_max_ms", hi);
+      }
       passes_.upsert(row);
     };
-    for (const auto& p : r.passes) addPass(p, r.passStats.at(p));
-    if (r.status == RunStatus::Success) addPass(PassTimer::kFrame, r.frame);
+    for (const auto& p : r.passes) {
+      auto it = rounds.passes.find(p);
+      addPass(p, r.passStats.at(p), it == rounds.passes.end() ? nullptr : &it->second);
+    }
+    if (r.status == RunStatus::Success) addPass(PassTimer::kFrame, r.frame, &rounds.frame);
     runs_.save(runsPath_);
     passes_.save(passesPath_);
   }
@@ -628,7 +688,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   options.timer = calibration.chosen;
   options.workCounters = true;
 
-  Progress progress(int(plan.jobs.size()) + (plan.haveReference ? 1 : 0) +
+  Progress progress(int(plan.jobs.size()) * req.rounds + (plan.haveReference ? 1 : 0) +
                     (req.exact && !plan.exactReference ? 1 : 0));
   int item = 0;
   Baselines base = prepareBaselines(req, plan, limits, registry, options, progress, item, meta);
@@ -636,28 +696,65 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   if (plan.haveReference) files.writeReferenceImages(base.reference, base.exposure);
 
   Runner runner(plan.scene, limits, options);
+  // Later rounds only time: no images, errors or work counters (those come from the first).
+  RunOptions laterOptions = options;
+  laterOptions.workCounters = false;
+  std::unique_ptr<Runner> laterRunner;
+  if (req.rounds > 1) laterRunner = std::make_unique<Runner>(plan.scene, limits, laterOptions);
   std::unique_ptr<EqualQuality> equalQuality;
   if (req.equalQuality && plan.haveReference && plan.effects.scattering)
     equalQuality = std::make_unique<EqualQuality>(plan, limits, registry, options, base.reference, progress);
   int failures = 0;
   std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr", "ssim");
-  for (const Job& job : plan.jobs) {
-    progress.item(item++, job.label);
-    Measured m = measureJob(runner, job, registry, plan, base, progress);
-    const MethodRun& r = m.run;
-    if (r.status == RunStatus::Failure) ++failures;
-    files.writeImages(r, base, plan.haveReference);
-    ResultRow row = runRow(m, plan, req, base, timer, info.glRenderer, date);
-    if (r.status == RunStatus::Success) row.set("scatter_ms", scatterMs(r));
-    if (equalQuality) addEqualQuality(row, m, *equalQuality, plan.effects);
-    files.addRows(row, r, plan.scene.name, timer, info.glRenderer);
-    progress.finished(jobSummary(m));
-    bool ok = r.status == RunStatus::Success;
-    std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", r.method.c_str(), r.params.c_str(), runStatusName(r.status),
-                ok ? num(r.frame.medianMs).c_str() : "-", m.measured ? num(m.finalErr.rmse).c_str() : "-",
-                m.measured ? num(m.finalErr.psnr).c_str() : "-", m.measured ? num(m.finalErr.ssim).c_str() : "-");
-    std::fflush(stdout);
-  }
+  std::vector<Measured> firsts(plan.jobs.size());
+  std::vector<RoundTimings> timings(plan.jobs.size());
+  for (int round = 0; round < req.rounds; ++round)
+    for (size_t j = 0; j < plan.jobs.size(); ++j) {
+      const Job& job = plan.jobs[j];
+      Measured& first = firsts[j];
+      if (round > 0 && first.run.status != RunStatus::Success) continue;  // its row is written
+      progress.item(item++, req.rounds > 1 ? job.label + " (round " + std::to_string(round + 1) + "/" +
+                                                 std::to_string(req.rounds) + ")"
+                                           : job.label);
+      if (round == 0) {
+        first = measureJob(runner, job, registry, plan, base, progress);
+        if (first.run.status == RunStatus::Failure) ++failures;
+        files.writeImages(first.run, base, plan.haveReference);
+        first.run.inscatter = Image();  // the errors are measured: the images are not kept
+        first.run.final = Image();
+        if (first.run.status == RunStatus::Success) timings[j].add(first.run);
+      } else {
+        auto method = createMethod(registry, job.method);
+        MethodRun later = laterRunner->run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
+        if (later.status == RunStatus::Success) timings[j].add(later);
+      }
+      Measured m = first;
+      const RoundTimings& t = timings[j];
+      if (m.run.status == RunStatus::Success && t.count() > 1) {
+        m.run.frame = combineRounds(t.frame);
+        for (auto& [pass, stats] : m.run.passStats)
+          if (t.passes.count(pass)) stats = combineRounds(t.passes.at(pass));
+      }
+      const MethodRun& r = m.run;
+      ResultRow row = runRow(m, plan, req, base, timer, info.glRenderer, date);
+      if (r.status == RunStatus::Success) {
+        row.set("scatter_ms", scatterMs(r)).set("rounds", t.count());
+        auto [frameLo, frameHi] = roundRange(t.frame);
+        row.set("frame_round_min_ms", frameLo).set("frame_round_max_ms", frameHi);
+        row.set("scatter_round_min_ms", *std::min_element(t.scatter.begin(), t.scatter.end()));
+        row.set("scatter_round_max_ms", *std::max_element(t.scatter.begin(), t.scatter.end()));
+      }
+      bool lastRound = round == req.rounds - 1;
+      if (equalQuality && lastRound) addEqualQuality(row, m, *equalQuality, plan.effects);
+      files.addRows(row, r, plan.scene.name, timer, info.glRenderer, t);
+      progress.finished(jobSummary(m));
+      if (!lastRound && r.status == RunStatus::Success) continue;  // printed once, after the last round
+      bool ok = r.status == RunStatus::Success;
+      std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", r.method.c_str(), r.params.c_str(), runStatusName(r.status),
+                  ok ? num(r.frame.medianMs).c_str() : "-", m.measured ? num(m.finalErr.rmse).c_str() : "-",
+                  m.measured ? num(m.finalErr.psnr).c_str() : "-", m.measured ? num(m.finalErr.ssim).c_str() : "-");
+      std::fflush(stdout);
+    }
   meta["status"] = "finished";
   meta["failures"] = failures;
   files.writeMeta(meta);

@@ -19,6 +19,9 @@ struct RunRequest {
   std::string referenceSpec;         // empty: the registered reference method; "exact": ground truth
   std::string timer = "auto";        // auto | gpu | wall
   int frames = 20, warmup = 3;
+  // Interleaved rounds (--rounds): every job runs once per round, in turn (A B C, A B C, ...), and
+  // its timings are the medians over the rounds, with their spread.
+  int rounds = 1;
   long long seed = 1;
   bool noReference = false;
   bool exact = false;                // also measure against the exact-visibility ground truth

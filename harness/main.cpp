@@ -25,6 +25,11 @@ int main(int argc, char** argv) {
     cmd->add_option("--out", r.out, "output folder (rows already there are kept)")->capture_default_str();
     cmd->add_option("--frames", r.frames, "measured frames per method")->capture_default_str()->check(CLI::Range(1, 100000));
     cmd->add_option("--warmup", r.warmup, "warm-up frames per method")->capture_default_str()->check(CLI::Range(0, 100000));
+    cmd->add_option("--rounds", r.rounds,
+                    "interleaved rounds: every row runs once per round, in turn, and its timings are the medians "
+                    "over the rounds (their range in the *_round_min/max columns)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
     cmd->add_option("--seed", r.seed, "seed for jitter and random scenes")->capture_default_str()->check(CLI::Range(0LL, 4294967295LL));
     cmd->add_option("--timer", r.timer, "timing strategy")->capture_default_str()->check(CLI::IsMember({"auto", "gpu", "wall"}));
     cmd->add_option("--cache", r.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");

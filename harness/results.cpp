@@ -35,9 +35,10 @@ void writeFileAtomic(const std::string& path, const std::string& text) {
 const std::vector<std::string>& runsColumns() {
   static const std::vector<std::string> columns = {
       "scene", "method", "params", "status", "reason", "effects", "passes", "approximations", "setup_ms",
-      "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable", "rmse", "relmse", "psnr",
+      "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable", "rounds", "frame_round_min_ms",
+      "frame_round_max_ms", "rmse", "relmse", "psnr",
       "ssim", "max_abs", "max_abs_x", "max_abs_y", "ls_rmse", "ls_relmse", "ls_psnr", "ls_ssim", "ls_max_abs",
-      "nonfinite_pixels", "method_stats", "scatter_ms", "eq_uniform_steps", "eq_uniform_ms", "speedup_eq_uniform",
+      "nonfinite_pixels", "method_stats", "scatter_ms", "scatter_round_min_ms", "scatter_round_max_ms", "eq_uniform_steps", "eq_uniform_ms", "speedup_eq_uniform",
       "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "speedup_eq_equiangular",
       "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
       "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
@@ -45,8 +46,9 @@ const std::vector<std::string>& runsColumns() {
 }
 
 const std::vector<std::string>& passesColumns() {
-  static const std::vector<std::string> columns = {"scene",  "method",    "params", "pass",  "median_ms", "min_ms",
-                                                   "max_ms", "mdape_pct", "frames", "timer", "renderer"};
+  static const std::vector<std::string> columns = {"scene",  "method",    "params", "pass",         "median_ms",
+                                                   "min_ms", "max_ms",    "mdape_pct", "frames", "rounds",
+                                                   "round_min_ms", "round_max_ms", "timer", "renderer"};
   return columns;
 }
 

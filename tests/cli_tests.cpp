@@ -227,6 +227,59 @@ TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
   EXPECT_EQ(meta["status"], "running");
 }
 
+TEST(CliTest, RoundsInterleaveTheRowsAndShowTheirSpread) {
+  std::string dir = makeTempDir("rounds");
+  std::string out = dir + "/out";
+  CommandResult r = runVshadow({"run", "--scene", "spheres", "--size", "24x18", "--frames", "2", "--warmup", "0",
+                                "--rounds", "3", "--method", "raymarch:steps=8", "--method", "minmax", "--method",
+                                "dsm", "--out", out, "--cache", dir + "/cache", "--no-images", "--strict-gl"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  // Round by round, each job in turn: A B, A B, A B (the progress lines name the rounds).
+  size_t a1 = r.err.find("raymarch"), b1 = r.err.find("minmax"), a2 = r.err.find("raymarch", b1);
+  ASSERT_NE(a2, std::string::npos) << r.err;
+  EXPECT_LT(a1, b1);
+  EXPECT_NE(r.err.find("(round 3/3)"), std::string::npos) << r.err;
+  CsvTable runs = loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns);
+  ASSERT_EQ(runs.rows().size(), 3u);
+  for (const auto& row : runs.rows()) {
+    if (field(runs, row, "method") == "dsm") {  // no volumes: one row, written once
+      EXPECT_EQ(field(runs, row, "status"), "Unsupported");
+      EXPECT_EQ(field(runs, row, "rounds"), "");
+      continue;
+    }
+    EXPECT_EQ(field(runs, row, "status"), "Success");
+    EXPECT_EQ(field(runs, row, "rounds"), "3");
+    double median = std::stod(field(runs, row, "frame_median_ms"));
+    double lo = std::stod(field(runs, row, "frame_round_min_ms")), hi = std::stod(field(runs, row, "frame_round_max_ms"));
+    EXPECT_LE(lo, median);
+    EXPECT_LE(median, hi);
+    double scatter = std::stod(field(runs, row, "scatter_ms"));
+    EXPECT_GT(scatter, 0.0);
+    EXPECT_LE(std::stod(field(runs, row, "scatter_round_min_ms")), std::stod(field(runs, row, "scatter_round_max_ms")));
+  }
+  CsvTable passes = loadCsv(out + "/passes.csv", passesColumns(), kPassesKeyColumns);
+  int frames = 0;
+  for (const auto& row : passes.rows()) {
+    if (field(passes, row, "pass") != "Frame") continue;
+    ++frames;
+    EXPECT_EQ(field(passes, row, "rounds"), "3");
+    EXPECT_EQ(field(passes, row, "frames"), "6");  // every round's frames
+    EXPECT_LE(std::stod(field(passes, row, "round_min_ms")), std::stod(field(passes, row, "median_ms")));
+    EXPECT_LE(std::stod(field(passes, row, "median_ms")), std::stod(field(passes, row, "round_max_ms")));
+  }
+  EXPECT_EQ(frames, 2);
+  auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));
+  EXPECT_EQ(meta["rounds"], 3);
+}
+
+TEST(CliTest, RoundsOutOfRangeAreRefused) {
+  std::string dir = makeTempDir("rounds-bad");
+  CommandResult r = runVshadow({"run", "--scene", "spheres", "--size", "16x16", "--rounds", "0", "--method", "raymarch",
+                                "--out", dir + "/out"});
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_FALSE(fs::exists(dir + "/out/runs.csv"));
+}
+
 }  // namespace
 }  // namespace vs::testing
 
