@@ -102,6 +102,35 @@ TEST_P(StressSliceTest, RandomConfigurationsStayFinite) {
   EXPECT_GT(s.tried, 0);
 }
 
+class StressShardTest : public GlTest {};
+
+TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
+  // A cluster runs the stress in shards (vshadow_stress --shard K/N --partial, then --merge): their
+  // merged summaries must be the unsharded run's.
+  StressOptions options;
+  options.seed = 7;
+  options.configs = 9;
+  options.width = 16;
+  options.height = 12;
+  std::vector<std::string> methods = {"raymarch", "vsv", "dsm"};
+  std::vector<StressSummary> whole = runStress(methods, options, glLimits());
+  std::vector<StressSummary> merged;
+  options.shards = 3;
+  for (options.shard = 0; options.shard < 3; ++options.shard) {
+    std::vector<StressSummary> part = runStress(methods, options, glLimits());
+    if (merged.empty()) merged = part;
+    else for (size_t m = 0; m < part.size(); ++m) merged[m].merge(part[m]);
+  }
+  for (size_t m = 0; m < methods.size(); ++m) {
+    EXPECT_EQ(merged[m].tried, whole[m].tried) << methods[m];
+    EXPECT_EQ(merged[m].unsupported, whole[m].unsupported) << methods[m];
+    EXPECT_EQ(merged[m].tried + merged[m].unsupported, 9) << methods[m];
+    EXPECT_EQ(merged[m].failures, whole[m].failures) << methods[m];
+    EXPECT_EQ(merged[m].worstIndex, whole[m].worstIndex) << methods[m];
+    EXPECT_DOUBLE_EQ(merged[m].worstRelmse, whole[m].worstRelmse) << methods[m];
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, StressSliceTest, ::testing::ValuesIn(methodNames()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 

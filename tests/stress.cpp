@@ -90,11 +90,35 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
   return parseSceneJson(scene.dump(), ".", "stress config " + std::to_string(seed) + "/" + std::to_string(index));
 }
 
-StressSummary runStress(const std::string& methodName, const StressOptions& options, const gl::Limits& limits,
-                        const std::function<void(int, int)>& progress) {
-  StressSummary summary;
-  summary.method = methodName;
-  ResolvedSpec spec = resolveSpec(methodName + ":sm=256", limits);
+void StressSummary::merge(const StressSummary& other) {
+  tried += other.tried;
+  unsupported += other.unsupported;
+  failures += other.failures;
+  nonFinite += other.nonFinite;
+  negative += other.negative;
+  if (other.worstRelmse > worstRelmse || (other.worstRelmse == worstRelmse && other.worstIndex < worstIndex &&
+                                          other.worstRelmse > 0.0)) {
+    worstRelmse = other.worstRelmse;
+    worstIndex = other.worstIndex;
+  }
+  if (other.mostNegative < mostNegative) {
+    mostNegative = other.mostNegative;
+    mostNegativeIndex = other.mostNegativeIndex;
+  }
+  if (!other.firstFailure.empty() && (firstFailure.empty() || other.firstFailureIndex < firstFailureIndex)) {
+    firstFailure = other.firstFailure;
+    firstFailureIndex = other.firstFailureIndex;
+  }
+}
+
+std::vector<StressSummary> runStress(const std::vector<std::string>& methods, const StressOptions& options,
+                                     const gl::Limits& limits, const std::function<void(int, int)>& progress) {
+  std::vector<StressSummary> summaries(methods.size());
+  std::vector<ResolvedSpec> specs;
+  for (size_t m = 0; m < methods.size(); ++m) {
+    summaries[m].method = methods[m];
+    specs.push_back(resolveSpec(methods[m] + ":sm=256", limits));
+  }
   std::string referenceSpec;
   for (const auto& info : registeredMethods()) {
     auto m = info.create();
@@ -109,41 +133,60 @@ StressSummary runStress(const std::string& methodName, const StressOptions& opti
   run.height = options.height;
   run.frames = 1;
   run.warmup = 0;
-  for (int i = 0; i < options.configs; ++i) {
+  int shards = std::max(options.shards, 1);
+  int total = 0;
+  for (int i = options.shard; i < options.configs; i += shards) ++total;
+  int done = 0;
+  for (int i = options.shard; i < options.configs; i += shards) {
     Scene scene = randomStressScene(options.seed, uint32_t(i));
-    auto method = createMethod(methodName);
-    if (!method->unsupportedReason(scene, spec.params).empty()) {
-      ++summary.unsupported;
-    } else {
+    Runner runner(scene, limits, run);
+    // Light on the camera ray origin: the integral diverges, no reference to be close to.
+    bool singular = scene.light.type != LightType::Directional &&
+                    glm::length(scene.light.position - scene.camera.position) < 1e-3f;
+    bool referenceTried = false;
+    MethodRun ref;
+    for (size_t m = 0; m < methods.size(); ++m) {
+      StressSummary& summary = summaries[m];
+      auto method = createMethod(methods[m]);
+      if (!method->unsupportedReason(scene, specs[m].params).empty()) {
+        ++summary.unsupported;
+        continue;
+      }
       ++summary.tried;
-      Runner runner(scene, limits, run);
-      MethodRun result = runner.run(*method, spec.params);
+      MethodRun result = runner.run(*method, specs[m].params);
       if (result.status != RunStatus::Success) {
         ++summary.failures;
         if (result.nonFinitePixels > 0) ++summary.nonFinite;
-        if (summary.firstFailure.empty()) summary.firstFailure = "config " + std::to_string(i) + ": " + result.reason;
-      } else {
-        bool negative = false;
-        for (float v : result.final.rgb) negative = negative || v < 0.0f;
-        for (float v : result.inscatter.rgb) negative = negative || v < 0.0f;
-        summary.negative += negative;
-        auto refMethod = createMethod(reference.method);
-        MethodRun ref = runner.run(*refMethod, reference.params);
-        // Light on the camera ray origin: the integral diverges, no reference to be close to.
-        bool singular = scene.light.type != LightType::Directional &&
-                        glm::length(scene.light.position - scene.camera.position) < 1e-3f;
-        if (ref.status == RunStatus::Success && !singular) {
-          double relmse = compareImages(result.inscatter, ref.inscatter).relmse;
-          if (relmse > summary.worstRelmse) {
-            summary.worstRelmse = relmse;
-            summary.worstIndex = uint32_t(i);
-          }
+        if (summary.firstFailure.empty()) {
+          summary.firstFailure = "config " + std::to_string(i) + ": " + result.reason;
+          summary.firstFailureIndex = uint32_t(i);
         }
+        continue;
+      }
+      float lowest = 0.0f;
+      for (float v : result.final.rgb) lowest = std::min(lowest, v);
+      for (float v : result.inscatter.rgb) lowest = std::min(lowest, v);
+      summary.negative += lowest < 0.0f;
+      if (lowest < summary.mostNegative) {
+        summary.mostNegative = lowest;
+        summary.mostNegativeIndex = uint32_t(i);
+      }
+      if (singular) continue;
+      if (!referenceTried) {
+        referenceTried = true;
+        auto refMethod = createMethod(reference.method);
+        ref = runner.run(*refMethod, reference.params);
+      }
+      if (ref.status != RunStatus::Success) continue;
+      double relmse = compareImages(result.inscatter, ref.inscatter).relmse;
+      if (relmse > summary.worstRelmse) {
+        summary.worstRelmse = relmse;
+        summary.worstIndex = uint32_t(i);
       }
     }
-    if (progress) progress(i + 1, options.configs);
+    if (progress) progress(++done, total);
   }
-  return summary;
+  return summaries;
 }
 
 }  // namespace vs::testing

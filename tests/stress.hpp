@@ -3,6 +3,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "harness/runner.hpp"
 #include "registry.hpp"
@@ -17,16 +18,30 @@ struct StressSummary {
   int tried = 0, unsupported = 0, failures = 0, nonFinite = 0, negative = 0;
   double worstRelmse = 0;      // L_s against the reference
   uint32_t worstIndex = 0;
-  std::string firstFailure;    // reason of the first Failure row, if any
+  std::string firstFailure;    // reason of the first Failure row (lowest config index), if any
+  uint32_t firstFailureIndex = 0;
+  double mostNegative = 0;     // the most negative value in any image (0: none)
+  uint32_t mostNegativeIndex = 0;
+
+  // Adds another slice's summary of the same method (e.g. another shard's).
+  void merge(const StressSummary& other);
 };
 
 struct StressOptions {
   uint32_t seed = 1;
   int configs = 100;
   int width = 32, height = 24;
+  // Shard `shard` of `shards`: the configurations whose index modulo `shards` is `shard`.
+  int shard = 0, shards = 1;
 };
 
-StressSummary runStress(const std::string& method, const StressOptions& options, const gl::Limits& limits,
-                        const std::function<void(int, int)>& progress = {});
+// Every method on each configuration of the options' slice, in turn; the reference is rendered once
+// per configuration for all of them. progress(done, total) counts configurations.
+std::vector<StressSummary> runStress(const std::vector<std::string>& methods, const StressOptions& options,
+                                     const gl::Limits& limits, const std::function<void(int, int)>& progress = {});
+inline StressSummary runStress(const std::string& method, const StressOptions& options, const gl::Limits& limits,
+                               const std::function<void(int, int)>& progress = {}) {
+  return runStress(std::vector<std::string>{method}, options, limits, progress).front();
+}
 
 }  // namespace vs::testing

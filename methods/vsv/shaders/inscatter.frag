@@ -126,8 +126,9 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
         vec3 g1 = pointIntegrand(mid - offset, eye, dir, dist, alpha, D, DsinAlpha);
         vec3 g2 = pointIntegrand(mid + offset, eye, dir, dist, alpha, D, DsinAlpha);
         vec3 slope = (g2 - g1) / max(2.0 * offset, 1e-30);
-        // Sum over lit bins j of g(φ_A + (j + 1/2) w) w with g linear through the two points.
-        vec3 groupSum = binWidth * (n0 * 0.5 * (g1 + g2) + slope * (binWidth * (n1 + 0.5 * n0) - n0 * (mid - phiA)));
+        // Sum over lit bins j of g(φ_A + (j + 1/2) w) w with g linear through the two points (the
+        // line can dip below 0 at a group's end where g is steep; g itself cannot).
+        vec3 groupSum = max(binWidth * (n0 * 0.5 * (g1 + g2) + slope * (binWidth * (n1 + 0.5 * n0) - n0 * (mid - phiA))), vec3(0.0));
         if (first < fullBins) sum += groupSum;
       }
     }
@@ -153,7 +154,7 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
   float yEnd = dist * sinAlpha;
   float sigma = sigmaT();
   // ∫_a^b e^{-σt s} ds, accurate for σt (b - a) -> 0.
-  #define EXP_INTEGRAL(a, b) (sigma * ((b) - (a)) > 1e-4 ? (exp(-sigma * (a)) - exp(-sigma * (b))) / sigma : ((b) - (a)) * exp(-sigma * (a)))
+  #define EXP_INTEGRAL(a, b) ((b) <= (a) ? 0.0 : sigma * ((b) - (a)) > 1e-4 ? max(exp(-sigma * (a)) - exp(-sigma * (b)), 0.0) / sigma : ((b) - (a)) * exp(-sigma * (a)))
   if (yEnd < binWidth) {  // nearly along the axis: the whole ray in the first bin
     uvec4 bits = texelFetch(voxels, ivec3(col, row, 0), 0);
     return (bits.x & 1u) != 0u ? 0.0 : EXP_INTEGRAL(0.0, dist);
