@@ -231,7 +231,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   glm::vec3 lo, hi;
   unionBox(context.scene, lo, hi);
   views_ = dsm::fitLightViews(context.scene.light, lo, hi, resolution_);
-  generationSamples_ = generationSamples(context.scene, views_, resolution_, genStep_, genSteps_);
+  // Relative thresholds march every light ray twice (the final optical depth first).
+  generationSamples_ = generationSamples(context.scene, views_, resolution_, genStep_, genSteps_) * (relative ? 2.0 : 1.0);
   DsmUniforms uniforms{};
   for (int f = 0; f < 6; ++f) {
     uniforms.faceViewProj[f] = views_.viewProj[size_t(f)];

@@ -227,6 +227,17 @@ TEST_F(DsmTest, LongMarchesAreNotCutShort) {
   EXPECT_NEAR(mean, meanLow, 0.02 * meanLow);
 }
 
+TEST_F(DsmTest, GenerationSamplesCountBothMarchesOfRelativeThresholds) {
+  Scene scene = loadScene("cloud");
+  MethodRun absolute = renderScene(scene, "dsm:res=64:thresholds=absolute", 16, 12);
+  MethodRun relative = renderScene(scene, "dsm:res=64:thresholds=relative", 16, 12);
+  ASSERT_EQ(absolute.status, RunStatus::Success) << absolute.reason;
+  ASSERT_EQ(relative.status, RunStatus::Success) << relative.reason;
+  double once = absolute.stats.at("dsm_voxel_samples"), twice = relative.stats.at("dsm_voxel_samples");
+  EXPECT_GT(once, 64.0 * 64.0);  // many steps per texel through the layer
+  EXPECT_DOUBLE_EQ(twice, 2.0 * once);
+}
+
 TEST_F(DsmTest, WithoutMeshesTheSharedShadowMapIsNotRendered) {
   Scene scene = sceneFromJson(R"({"geometry": [],
     "volumes": [{"generator": "bucky", "box_min": [-1, -1, -1], "box_max": [1, 1, 1], "sigma_s": 2, "sigma_a": 0.2}],
