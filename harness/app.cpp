@@ -168,13 +168,6 @@ struct RoundTimings {
   int count() const { return int(frame.size()); }
 };
 
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // Median of the rounds' medians (and of their MdAPE), min and max over every frame, all frames.
 TimingStats combineRounds(const std::vector<TimingStats>& rounds) {
   TimingStats out;
@@ -592,8 +585,7 @@ Measured measureJob(Runner& runner, const Job& job, const MethodRegistry& regist
 void addEqualQuality(ResultRow& row, const Measured& m, EqualQuality& eq, const Effects& effects) {
   const MethodRun& r = m.run;
   if (r.status != RunStatus::Success) return;
-  double ms = scatterMs(r);
-  row.set("scatter_ms", ms);
+  double ms = scatterMs(r);  // the row's scatter_ms
   if (!m.measured || r.method == eq.baseline() || eq.baseline().empty()) return;
   std::vector<std::string> samplings = {"uniform"};
   bool pointLike = effects.light == LightType::Point || effects.light == LightType::Spot;
@@ -719,6 +711,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
       if (round == 0) {
         first = measureJob(runner, job, registry, plan, base, progress);
         if (first.run.status == RunStatus::Failure) ++failures;
+        if (first.run.status != RunStatus::Success) progress.skip(req.rounds - 1);  // no later rounds
         files.writeImages(first.run, base, plan.haveReference);
         first.run.inscatter = Image();  // the errors are measured: the images are not kept
         first.run.final = Image();

@@ -16,7 +16,7 @@ const char* timerStrategyName(TimerStrategy s) {
   return s == TimerStrategy::GpuTimestamp ? "gpu-timestamp" : "wall-clock";
 }
 
-static double median(std::vector<double> v) {
+double medianOf(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   size_t n = v.size();
@@ -27,12 +27,12 @@ TimingStats summarise(std::vector<double> samplesMs) {
   TimingStats s;
   s.samples = samplesMs.size();
   if (samplesMs.empty()) return s;
-  s.medianMs = median(samplesMs);
+  s.medianMs = medianOf(samplesMs);
   s.minMs = *std::min_element(samplesMs.begin(), samplesMs.end());
   s.maxMs = *std::max_element(samplesMs.begin(), samplesMs.end());
   std::vector<double> ape;
   for (double x : samplesMs) ape.push_back(s.medianMs > 0 ? std::fabs(x - s.medianMs) / s.medianMs * 100.0 : 0.0);
-  s.mdapePct = median(ape);
+  s.mdapePct = medianOf(ape);
   return s;
 }
 
@@ -203,7 +203,7 @@ Measured measureBothWays(Work&& work) {
     elapsed.push_back(double(e) * 1e-6);
   }
   glDeleteQueries(3, q);
-  return {median(wall), median(stamp), median(elapsed)};
+  return {medianOf(wall), medianOf(stamp), medianOf(elapsed)};
 }
 }  // namespace
 

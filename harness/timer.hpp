@@ -30,6 +30,8 @@ struct TimingStats {
   double medianMs = 0, minMs = 0, maxMs = 0, mdapePct = 0;
   size_t samples = 0;
 };
+// The median of the values (0 without any).
+double medianOf(std::vector<double> values);
 // MdAPE: median over samples of |x - median| / median, in percent.
 TimingStats summarise(std::vector<double> samplesMs);
 

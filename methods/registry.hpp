@@ -56,13 +56,15 @@ inline std::vector<std::vector<MethodRun>> runInterleaved(const Scene& scene, co
   return runs;
 }
 // The spread of figure(run) over the runs of one spec (zeros without any).
+inline Spread spreadOfValues(const std::vector<double>& v) {
+  if (v.empty()) return {};
+  auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  return {medianOf(v), *lo, *hi};
+}
 inline Spread spreadOf(const std::vector<MethodRun>& runs, const std::function<double(const MethodRun&)>& figure) {
   std::vector<double> v;
   for (const MethodRun& run : runs) v.push_back(figure(run));
-  if (v.empty()) return {};
-  std::sort(v.begin(), v.end());
-  size_t n = v.size();
-  return {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
+  return spreadOfValues(v);
 }
 inline std::vector<Spread> measureInterleaved(const Scene& scene, const std::vector<std::string>& specs,
                                               const gl::Limits& limits, int width, int height, int frames, int rounds,

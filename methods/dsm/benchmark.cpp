@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
               rounds);
   std::printf("| scene | dsm params | dsm relMSE | dsm ms | raymarch params | raymarch relMSE | raymarch ms | speedup | at least |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
-  std::map<std::string, Measured> defaults;
+  std::map<std::string, std::vector<MethodRun>> defaults;  // the defaults' timed rounds
   std::vector<std::string> ladder = createMethod("dsm")->qualityLadder();
   const size_t defaultsRung = 2;  // the ladder's middle rung spells out the defaults
   ladder.insert(ladder.begin() + defaultsRung + 1, kPaperLayout);
@@ -154,29 +154,29 @@ int main(int argc, char** argv) {
       std::vector<double> ratios;
       for (size_t k = 0; k < std::min(timed[0].size(), timed[1].size()); ++k)
         ratios.push_back(scatterMsOf(timed[1][k]) / std::max(scatterMsOf(timed[0][k]), 1e-9));
-      std::sort(ratios.begin(), ratios.end());
       Spread own = spreadOf(timed[0], scatterMsOf), base = spreadOf(timed[1], scatterMsOf);
       if (ratios.empty()) continue;
-      double ratio = ratios.size() % 2 ? ratios[ratios.size() / 2]
-                                       : 0.5 * (ratios[ratios.size() / 2 - 1] + ratios[ratios.size() / 2]);
-      if (r == defaultsRung) defaults[name] = m;
+      Spread ratio = spreadOfValues(ratios);
+      if (r == defaultsRung) defaults[name] = timed[0];
       std::printf("| %s | %s | %.2e | %s | %s | %.2e | %s | **%.2fx** [%.2f–%.2f] | %.2fx |\n", name, params, m.relmse,
                   spreadCell(own).c_str(), baselineSpecs[size_t(best)].substr(9).c_str(), baselines[size_t(best)].relmse,
-                  spreadCell(base).c_str(), ratio, ratios.front(), ratios.back(),
+                  spreadCell(base).c_str(), ratio.median, ratio.lo, ratio.hi,
                   // A miss that timed slower than the match in the rounds bounds nothing: the match does.
                   miss >= 0 ? std::min(spreadOf(timed[2], scatterMsOf).median, base.median) / std::max(own.median, 1e-9)
                             : 0.0);
       std::fflush(stdout);
     }
   }
-  std::printf("\nPass breakdown of dsm at its defaults (ms): \n\n");
+  std::printf("\nPass breakdown of dsm at its defaults (ms, median [range] over the rounds above): \n\n");
   std::printf("| scene | DSM Generation | Volume March | Surface Shadows | Shadow Map | G Buffer | Direct Lighting | frame |"
               " voxel samples/s (generation) |\n|---|---|---|---|---|---|---|---|---|\n");
-  for (auto& [name, m] : defaults)
-    std::printf("| %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.3g |\n", name.c_str(),
-                m.run.passMs("DSM Generation"), m.run.passMs("Volume March"), m.run.passMs("Surface Shadows"),
-                m.run.passMs("Shadow Map"), m.run.passMs("G Buffer"), m.run.passMs("Direct Lighting"),
-                m.run.frame.medianMs, stat(m.run, "dsm_voxel_samples_per_s"));
+  for (auto& [name, runs] : defaults) {
+    std::printf("| %s", name.c_str());
+    for (const char* pass : {"DSM Generation", "Volume March", "Surface Shadows", "Shadow Map", "G Buffer", "Direct Lighting"})
+      std::printf(" | %s", spreadCell(spreadOf(runs, [pass](const MethodRun& run) { return run.passMs(pass); })).c_str());
+    std::printf(" | %s | %.3g |\n", spreadCell(spreadOf(runs, [](const MethodRun& run) { return run.frame.medianMs; })).c_str(),
+                spreadOf(runs, [](const MethodRun& run) { return stat(run, "dsm_voxel_samples_per_s"); }).median);
+  }
 
   // ---- 2. Error against the knobs
   std::printf("\n## L_s relMSE against the knobs, %dx%d\n\n", sw, sh);
