@@ -43,6 +43,10 @@ void Progress::finished(const std::string& summary) {
   std::fflush(stderr);
 }
 
+void Progress::skip(int items) {
+  total_ = total_ > items ? total_ - items : 0;
+}
+
 void Progress::note(const std::string& line) {
   if (tty_) std::fprintf(stderr, "\r\033[K");
   std::fprintf(stderr, "%s\n", line.c_str());

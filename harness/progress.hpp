@@ -12,6 +12,7 @@ class Progress {
   void frames(int done, int total);                 // progress inside the current item
   void finished(const std::string& summary);        // ends the current item
   void note(const std::string& line);               // a message that does not break the bar
+  void skip(int items);                             // items planned but not to be run
 
  private:
   void draw();
