@@ -178,38 +178,3 @@ float dsmTransmittance(vec3 x) {
 #endif
   return clamp(1.0 - a, 0.0, 1.0);
 }
-
-// Transmittance at a point outside every volume box (the camera ray's haze samples). Along its
-// light ray the point is in front of the volumes (1) or behind them (the ray's final
-// transmittance), so one value per texel is read and no knots are evaluated. With several boxes a
-// point can lie between them: the full lookup.
-float dsmTransmittanceOutside(vec3 x) {
-#if VS_VOLUMES > 1
-  return dsmTransmittance(x);
-#else
-  int face = dsmFace(x);
-  vec4 p = faceViewProj(face) * vec4(x, 1.0);
-  if (p.w <= 1e-20) return 1.0;
-  float size = dsm.params.x;
-  vec2 st = (p.xy / p.w * 0.5 + 0.5) * size - 0.5;
-  if (any(lessThan(st, vec2(-0.5))) || any(greaterThan(st, vec2(size - 0.5)))) return 1.0;
-  vec3 origin, dir;
-  lightRayThrough(x, origin, dir);
-  vec2 span = volumeSpan(origin, dir, lightRayStart());
-  float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
-  if (span.x >= span.y || lightDepth(x) <= base + 0.5 * (span.x + span.y)) return 1.0;
-  const int finalLayer = DSM_KNOTS / 4, finalSlot = DSM_KNOTS % 4;
-#if DSM_FILTER == 1
-  float final = dsmLayer(ivec2(0), (st + 0.5) / size, face, finalLayer)[finalSlot];
-#else
-  vec2 f = fract(st);
-  ivec2 t0 = clamp(ivec2(floor(st)), ivec2(0), ivec2(int(size) - 1));
-  ivec2 t1 = min(t0 + 1, ivec2(int(size) - 1));
-  float final = mix(mix(dsmLayer(t0, vec2(0.0), face, finalLayer)[finalSlot],
-                        dsmLayer(ivec2(t1.x, t0.y), vec2(0.0), face, finalLayer)[finalSlot], f.x),
-                    mix(dsmLayer(ivec2(t0.x, t1.y), vec2(0.0), face, finalLayer)[finalSlot],
-                        dsmLayer(t1, vec2(0.0), face, finalLayer)[finalSlot], f.x), f.y);
-#endif
-  return clamp(1.0 - final, 0.0, 1.0);
-#endif
-}

@@ -81,7 +81,7 @@ void main() {
     }
     float tau = sigmaT() * s + (s > b ? tauVolume : 0.0);
     vec3 x = eye + dir * s;
-    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, sigmaS(), dsmTransmittanceOutside(x));
+    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, sigmaS(), dsmTransmittance(x));
   }
   vec3 L = all(lessThan(abs(sum), vec3(3.0e38))) ? sum : vec3(0.0);
   outInscatter = vec4(L, exp(-tauVolume));
