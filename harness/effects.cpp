@@ -1,5 +1,7 @@
 #include "effects.hpp"
 
+#include <algorithm>
+
 namespace vs {
 
 Effects deriveEffects(const Scene& scene) {
@@ -10,9 +12,12 @@ Effects deriveEffects(const Scene& scene) {
     e.volumeData = true;
     // A volume that only absorbs still needs the method's pass: it outputs the camera ray's
     // transmittance through the volume with L_s.
-    bool present = v.sigmaT() > 0.0f && v.densityScale > 0.0f && v.maxDensity() > 0.0f;
+    glm::vec3 t = v.sigmaT();
+    bool present = std::max({t.x, t.y, t.z}) > 0.0f && v.densityScale > 0.0f && v.maxDensity() > 0.0f;
     e.scattering = e.scattering || present;
     e.extinction = e.extinction || present;
+    // Per-channel coefficients: the light through the volume is tinted.
+    if (present && v.chromatic()) e.coloredShadows = true;
   }
   e.lightTexture = scene.light.hasTexture();
   e.anisotropic = scene.medium.phase == Phase::HenyeyGreenstein && scene.medium.g != 0.0f;

@@ -17,7 +17,7 @@ struct Effects {
   bool cosineLobe = false;       // point light with cosine emission (an area light's virtual point light)
   bool volumeData = false;       // density grids: heterogeneous sigma_t, 3D textures
   bool semiTransparent = false;  // occluders with opacity < 1: light transmittance through layers
-  bool coloredShadows = false;   // semi-transparent occluders with a transmittance colour
+  bool coloredShadows = false;   // occluders with a transmittance colour, or volumes with per-channel sigma
   LightType light = LightType::Point;
   int volumeCount = 0;
   std::string describe() const;  // "scattering+extinction+point"

@@ -60,8 +60,9 @@ std::string volumeLimitProblem(const Scene& scene, const gl::Limits& limits) {
     return "the scene has " + std::to_string(scene.volumes.size()) + " volumes; at most " + std::to_string(kMaxVolumes) +
            " are supported";
   int units = std::min(limits.maxFragmentTextureUnits, limits.maxComputeTextureUnits);
-  if (units < int(bind::kVolumeDensity0) + kMaxVolumes)
-    return "volume data needs " + std::to_string(bind::kVolumeDensity0 + kMaxVolumes) +
+  int needed = std::max(int(bind::kVolumeDensity0) + kMaxVolumes, int(bind::kVolumeTransmittance) + 1);
+  if (units < needed)
+    return "volume data needs " + std::to_string(needed) +
            " texture units; this GL implementation has " + std::to_string(units);
   for (const Volume& v : scene.volumes)
     for (int k = 0; k < 3; ++k)
@@ -82,8 +83,11 @@ VolumesGpu::VolumesGpu(const Scene& scene) {
     glm::vec3 voxel = (v.boxHi - v.boxLo) / glm::vec3(v.dims[0], v.dims[1], v.dims[2]);
     uniforms.boxLo[i] = glm::vec4(v.boxLo, 0.0f);
     uniforms.boxHi[i] = glm::vec4(v.boxHi, 0.0f);
-    uniforms.coeff[i] = glm::vec4(v.sigmaS * v.densityScale, v.sigmaT() * v.densityScale, v.maxDensity(),
+    glm::vec3 s = v.sigmaS * v.densityScale, t = v.sigmaT() * v.densityScale;
+    uniforms.coeff[i] = glm::vec4((s.x + s.y + s.z) / 3.0f, (t.x + t.y + t.z) / 3.0f, v.maxDensity(),
                                   std::min({voxel.x, voxel.y, voxel.z}));
+    uniforms.scattering[i] = glm::vec4(s, 0.0f);
+    uniforms.extinction[i] = glm::vec4(t, 0.0f);
   }
   ubo = gl::createBuffer(sizeof(VolumeUniforms), &uniforms);
 }
@@ -314,7 +318,16 @@ SharedPasses::SharedPasses(const Scene& scene, const SceneGpu& geometry, const E
                                        {GL_COLOR_ATTACHMENT2, gAlbedo_.id()},
                                        {GL_DEPTH_ATTACHMENT, depth_.id()}});
   directFbo_ = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, direct_.id()}});
-  inscatterFbo_ = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, inscatter_.id()}});
+  if (effects_.volumeData) {
+    // Methods write L_s and the camera ray's rgb transmittance through the volumes in one pass.
+    volumeTransmittance_ = gl::createTexture2D(GL_RGBA32F, width, height);
+    inscatterFbo_ = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, inscatter_.id()},
+                                           {GL_COLOR_ATTACHMENT1, volumeTransmittance_.id()}});
+    const GLenum targets[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(inscatterFbo_.id(), 2, targets);
+  } else {
+    inscatterFbo_ = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, inscatter_.id()}});
+  }
   finalFbo_ = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, final_.id()}});
   gl::checkFramebuffer(gbufferFbo_.id(), "G buffer");
   gl::checkFramebuffer(directFbo_.id(), "direct lighting");
@@ -478,7 +491,7 @@ Frame SharedPasses::frame() const {
   return Frame{scene_,          geometry_,          effects_,          uniforms_,         shadow_,
                width_,          height_,            frameIndex_,       seed_,             gPosition_.id(),
                gNormal_.id(),   gAlbedo_.id(),      depth_.id(),       inscatter_.id(),   inscatterFbo_.id(),
-               direct_.id(),    directFbo_.id(),    lightTexture_.id(), ubo_.id(),        volumes_.get(),
+               volumeTransmittance_.id(), direct_.id(),    directFbo_.id(),    lightTexture_.id(), ubo_.id(),        volumes_.get(),
                transmittance_.get(), shadowCasters_};
 }
 
@@ -556,15 +569,18 @@ void SharedPasses::clearShadowMap() {
 }
 
 void SharedPasses::clearInscatter() {
-  const float nothing[4] = {0, 0, 0, 1};  // no L_s, transmittance 1
+  const float nothing[4] = {0, 0, 0, 1}, clear[4] = {1, 1, 1, 1};  // no L_s, transmittance 1
   glClearNamedFramebufferfv(inscatterFbo_.id(), GL_COLOR, 0, nothing);
+  if (effects_.volumeData) glClearNamedFramebufferfv(inscatterFbo_.id(), GL_COLOR, 1, clear);
 }
 
 void SharedPasses::composite(PassTimer& timer) {
   auto scope = timer.scope("Composite");
   glBindTextureUnit(bind::kDirect, direct_.id());
   glBindTextureUnit(bind::kInscatter, inscatter_.id());
+  if (effects_.volumeData) glBindTextureUnit(bind::kVolumeTransmittance, volumeTransmittance_.id());
   drawFullscreen(finalFbo_.id(), compositeProgram_.id());
+  if (effects_.volumeData) glBindTextureUnit(bind::kVolumeTransmittance, 0);  // the next frame renders into it
 }
 
 Image SharedPasses::readTexture(GLuint texture) const {

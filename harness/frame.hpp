@@ -31,6 +31,7 @@ constexpr GLuint kFirstMethodUnit = 10;   // units 10-15 belong to the method
 constexpr GLuint kAlphaTexture = 21;      // sampler2D: the alpha texture of the mesh being drawn
 constexpr GLuint kVolumeDensity0 = 16;    // sampler3D per volume: units 16 .. 16 + kMaxVolumes - 1
 constexpr GLuint kVolumeUniforms = 1;     // UBO
+constexpr GLuint kVolumeTransmittance = 20;  // camera rays' RGB transmittance through volume data
 constexpr GLuint kTransmittanceHeads = 7;  // image unit (uimage2DArray): first node per light texel and face
 constexpr GLuint kTransmittanceUniforms = 2;  // UBO
 constexpr GLuint kTransmittanceNodes = 7;   // SSBO
@@ -45,8 +46,11 @@ struct VolumeUniforms {
   glm::ivec4 count{0};                 // x = number of volumes
   glm::vec4 boxLo[kMaxVolumes];        // xyz
   glm::vec4 boxHi[kMaxVolumes];        // xyz
-  glm::vec4 coeff[kMaxVolumes];        // x sigma_s, y sigma_t per unit density (times density_scale),
-                                       // z max density, w smallest voxel side (world units)
+  glm::vec4 coeff[kMaxVolumes];        // x mean sigma_s, y mean sigma_t over the colour channels per
+                                       // unit density (times density_scale), z max density, w smallest
+                                       // voxel side (world units)
+  glm::vec4 scattering[kMaxVolumes];   // rgb sigma_s per unit density (times density_scale)
+  glm::vec4 extinction[kMaxVolumes];   // rgb sigma_t per unit density (times density_scale)
 };
 
 // The scene's volumes on the GPU (built only when the scene has volume data).
@@ -158,7 +162,9 @@ struct Frame {
   uint32_t frameIndex, seed;
   GLuint gPosition, gNormal, gAlbedo, depth;
   GLuint inscatter;         // RGBA32F texture the method writes L_s into
-  GLuint inscatterFbo;      // framebuffer with `inscatter` as color attachment 0, viewport = size
+  GLuint inscatterFbo;      // framebuffer with `inscatter` as color attachment 0, viewport = size;
+                            // with volume data `volumeTransmittance` is attachment 1 (draw buffer 1)
+  GLuint volumeTransmittance;  // RGBA32F: the camera ray's rgb transmittance through volume data (0 without)
   GLuint direct;            // L_surf from Direct Lighting (RGBA32F)
   GLuint directFbo;         // a method with its own surface shadows may re-shade L_surf here
                             // (common.glsl surfaceRadiance); the composite reads it
@@ -211,7 +217,7 @@ class SharedPasses {
   std::unique_ptr<VolumesGpu> volumes_;
   std::unique_ptr<TransmittanceMap> transmittance_;
   gl::Sampler lightSampler_;
-  gl::Texture gPosition_, gNormal_, gAlbedo_, depth_, direct_, inscatter_, final_;
+  gl::Texture gPosition_, gNormal_, gAlbedo_, depth_, direct_, inscatter_, volumeTransmittance_, final_;
   gl::Framebuffer gbufferFbo_, directFbo_, inscatterFbo_, finalFbo_;
   gl::Program shadowProgram_, skyProgram_, gbufferProgram_, directProgram_, compositeProgram_;
   uint32_t frameIndex_ = 0, seed_ = 0;

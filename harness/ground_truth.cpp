@@ -241,21 +241,19 @@ struct VolumeModel {
   explicit VolumeModel(const Scene& s) : volumes(s.volumes) {}
   bool empty() const { return volumes.empty(); }
 
-  // (sigma_s, sigma_t) of the volumes at x.
-  glm::dvec2 coefficients(dvec3 x) const {
-    glm::dvec2 c(0.0);
-    for (const Volume& v : volumes) {
-      double d = double(v.densityAt(glm::vec3(x))) * v.densityScale;
-      c += d * glm::dvec2(v.sigmaS, v.sigmaT());
-    }
+  // rgb sigma_s of the volumes at x.
+  dvec3 scattering(dvec3 x) const {
+    dvec3 c(0.0);
+    for (const Volume& v : volumes) c += double(v.densityAt(glm::vec3(x))) * v.densityScale * dvec3(v.sigmaS);
     return c;
   }
 
-  double opticalDepth(dvec3 a, dvec3 b) const {
-    double total = 0.0;
+  // rgb optical depth between a and b.
+  dvec3 opticalDepth(dvec3 a, dvec3 b) const {
+    dvec3 total(0.0);
     dvec3 d = b - a;
     double len = glm::length(d);
-    if (len <= 0.0) return 0.0;
+    if (len <= 0.0) return dvec3(0.0);
     for (const Volume& v : volumes) {
       double t0 = 0.0, t1 = 1.0;
       for (int k = 0; k < 3; ++k) {
@@ -277,7 +275,7 @@ struct VolumeModel {
         double w = (i == 0 || i == n) ? 1.0 : (i & 1) ? 4.0 : 2.0;
         sum += w * double(v.densityAt(glm::vec3(a + d * (t0 + i * dt))));
       }
-      total += sum * dt / 3.0 * len * v.densityScale * v.sigmaT();
+      total += sum * dt / 3.0 * len * v.densityScale * dvec3(v.sigmaT());
     }
     return total;
   }
@@ -327,7 +325,7 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
                            double(lightSamples);
   // Transmittance of the volumes from x towards the light.
   auto lightTransmittance = [&](dvec3 x) {
-    return volumes.empty() ? 1.0 : std::exp(-volumes.opticalDepth(x, light.source(x, reach)));
+    return volumes.empty() ? dvec3(1.0) : glm::exp(-volumes.opticalDepth(x, light.source(x, reach)));
   };
 
   GroundTruth out;
@@ -355,7 +353,7 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
         }
         double d = hit.hit ? hit.t : farDist;
         dvec3 Ls(0.0);
-        double viewDepth = 0.0;  // optical depth of the volumes along the camera ray so far
+        dvec3 viewDepth(0.0);  // optical depth of the volumes along the camera ray so far
         if (sigmaS > 0.0 || !volumes.empty()) {
           // Stratified samples, equiangular from point and spot lights (the weight r^2 cancels
           // L_in's 1/r^2, so rays passing close to the light are integrated as well as the rest).
@@ -377,13 +375,13 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
               weight = d / N;
             }
             dvec3 xs = eye + dir * s;
-            double scattering = sigmaS;
+            dvec3 scattering(sigmaS);
             if (!volumes.empty()) {
               viewDepth += volumes.opticalDepth(eye + dir * sPrev, xs);
               sPrev = s;
-              scattering += volumes.coefficients(xs).x;
+              scattering += volumes.scattering(xs);
             }
-            if (scattering <= 0.0) continue;
+            if (scattering == dvec3(0.0)) continue;
             if (isArea) {
               // Stratified, per-pixel jittered points on the light, each with exact visibility.
               dvec3 sum(0.0);
@@ -399,12 +397,12 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
                 dvec3 V = tracer.transmittance(xs, -l, r * (1.0 - 1e-6));
                 sum += V * (emission * std::exp(-sigmaT * r) / r2 * light.phase(glm::dot(l, -dir)));
               }
-              Ls += weight * scattering * std::exp(-sigmaT * s - viewDepth) * sum * areaWeight;
+              Ls += weight * scattering * glm::exp(-sigmaT * s - viewDepth) * sum * areaWeight;
               continue;
             }
             dvec3 V = light.visible(tracer, xs);
             if (V == dvec3(0.0)) continue;
-            Ls += weight * scattering * std::exp(-sigmaT * s - viewDepth) * lightTransmittance(xs) * V *
+            Ls += weight * scattering * glm::exp(-sigmaT * s - viewDepth) * lightTransmittance(xs) * V *
                   light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
           }
           if (!volumes.empty()) viewDepth += volumes.opticalDepth(eye + dir * sPrev, eye + dir * d);
@@ -418,7 +416,7 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
             surface = hit.albedo / kPi * light.incident(xs) * cosine * lightTransmittance(xs) *
                       light.visible(tracer, xs + hit.normal * surfaceOffset);
         }
-        dvec3 L = surface * std::exp(-sigmaT * d - viewDepth) + Ls;
+        dvec3 L = surface * glm::exp(-sigmaT * d - viewDepth) + Ls;
         for (int c = 0; c < 3; ++c) {
           out.inscatter.at(x, y)[c] = float(Ls[c]);
           out.final.at(x, y)[c] = float(L[c]);

@@ -89,8 +89,9 @@ class Method {
   virtual std::vector<std::string> approximations() const { return {}; }
   // Allocate and compile; called once before the frames. Throw to fail the run with a reason.
   virtual void setup(const SetupContext& context, const ParamValues& params) = 0;
-  // Write L_s into frame.inscatterFbo (rgb) and the camera ray's transmittance through volume
-  // data (alpha; 1 without volumes: the homogeneous medium is applied by the composite); every
+  // Write L_s into frame.inscatterFbo (rgb) and, with volume data, the camera ray's rgb
+  // transmittance through the volumes into its draw buffer 1 (frame.volumeTransmittance; the
+  // homogeneous medium is applied by the composite); every
   // pass inside timer.scope("Paper's pass name"). Called only when the scene scatters light
   // (Effects::scattering). setup() is timed on its own (the setup_ms column).
   virtual void render(const Frame& frame, PassTimer& timer) = 0;

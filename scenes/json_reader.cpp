@@ -307,6 +307,13 @@ glm::vec3 ObjectReader::vec3(const std::string& key, glm::vec3 fallback, Range r
   return value ? readVec3(*value, locationOf(key), range) : fallback;
 }
 
+glm::vec3 ObjectReader::rgb(const std::string& key, float fallback, Range range) {
+  const Json* value = optional(key);
+  if (!value) return glm::vec3(fallback);
+  if (value->is_array()) return readVec3(*value, locationOf(key), range);
+  return glm::vec3(float(readNumber(*value, locationOf(key), range)));
+}
+
 glm::vec2 ObjectReader::vec2(const std::string& key, glm::vec2 fallback, Range range) {
   const Json* value = optional(key);
   return value ? readVec2(*value, locationOf(key), range) : fallback;

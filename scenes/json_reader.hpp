@@ -97,6 +97,8 @@ class ObjectReader {
   glm::vec3 vec3(const std::string& key, Range range);
   glm::vec3 vec3(const std::string& key, glm::vec3 fallback, Range range);
   glm::vec2 vec2(const std::string& key, glm::vec2 fallback, Range range);
+  // A number (the same for r, g and b) or an [r, g, b] triple.
+  glm::vec3 rgb(const std::string& key, float fallback, Range range);
   std::string string(const std::string& key);
   std::string string(const std::string& key, const std::string& fallback);
   // One of `options`; fails with the list of options otherwise.

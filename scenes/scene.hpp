@@ -52,15 +52,18 @@ struct Mesh {
 };
 
 // A density grid placed in world space by an axis-aligned box: sigma(x) = density(x) * densityScale
-// * (sigmaS, sigmaA) per scene unit, trilinear inside the box (voxel centres), zero outside.
+// * (sigmaS, sigmaA) per scene unit, trilinear inside the box (voxel centres), zero outside. The
+// coefficients are per colour channel: unequal channels tint the light passing through.
 struct Volume {
   std::string name;
   int dims[3] = {0, 0, 0};           // x, y, z voxels
   std::vector<float> density;        // x fastest, then y, then z; finite and >= 0
   glm::vec3 boxLo{-1.0f}, boxHi{1.0f};
   float densityScale = 1.0f;
-  float sigmaS = 1.0f, sigmaA = 0.0f;  // per unit density, 1/scene unit
-  float sigmaT() const { return sigmaS + sigmaA; }
+  glm::vec3 sigmaS{1.0f}, sigmaA{0.0f};  // per unit density and colour channel, 1/scene unit
+  glm::vec3 sigmaT() const { return sigmaS + sigmaA; }
+  float meanSigmaT() const { return (sigmaT().x + sigmaT().y + sigmaT().z) / 3.0f; }
+  bool chromatic() const { return sigmaT().x != sigmaT().y || sigmaT().y != sigmaT().z || sigmaS.x != sigmaS.y || sigmaS.y != sigmaS.z; }
   size_t voxelCount() const { return size_t(dims[0]) * size_t(dims[1]) * size_t(dims[2]); }
   float voxel(int x, int y, int z) const { return density[(size_t(z) * dims[1] + y) * dims[0] + x]; }
   // Trilinear density at a world point (0 outside the box), before densityScale.

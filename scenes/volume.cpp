@@ -131,8 +131,8 @@ Volume readVolume(ObjectReader entry, const std::string& baseDir, ContentHasher&
   for (int k = 0; k < 3; ++k)
     if (!(v.boxHi[k] > v.boxLo[k])) entry.fail("box_max", "must be greater than box_min on every axis");
   v.densityScale = float(entry.number("density_scale", 1.0, Range::closed(0.0, 1e6)));
-  v.sigmaS = float(entry.number("sigma_s", 1.0, Range::closed(0.0, 1e6)));
-  v.sigmaA = float(entry.number("sigma_a", 0.0, Range::closed(0.0, 1e6)));
+  v.sigmaS = entry.rgb("sigma_s", 1.0f, Range::closed(0.0, 1e6));
+  v.sigmaA = entry.rgb("sigma_a", 0.0f, Range::closed(0.0, 1e6));
   if (isGenerator) {
     std::string generator = entry.choice("generator", volumeGeneratorNames(), "");
     float scale = float(entry.number("scale", 1.0, Range::openClosed(0.0, 4.0)));

@@ -277,7 +277,9 @@ layout(std140, binding = 1) uniform VolumeBlock {
   ivec4 count;
   vec4 boxLo[4];
   vec4 boxHi[4];
-  vec4 coeff[4];  // sigma_s, sigma_t per unit density (times density_scale), max density, smallest voxel side
+  vec4 coeff[4];       // mean sigma_s, mean sigma_t per unit density (times density_scale), max density, smallest voxel side
+  vec4 scattering[4];  // rgb sigma_s per unit density (times density_scale)
+  vec4 extinction[4];  // rgb sigma_t per unit density (times density_scale)
 } vol;
 layout(binding = 16) uniform sampler3D volumeDensity[4];
 
@@ -288,11 +290,25 @@ float volumeDensityAt(int i, vec3 x) {
   return textureLod(volumeDensity[i], f, 0.0).r;
 }
 
-// (sigma_s, sigma_t) of all volumes at x.
-vec2 volumeCoefficients(vec3 x) {
-  vec2 c = vec2(0.0);
-  for (int i = 0; i < VS_VOLUMES; ++i) c += volumeDensityAt(i, x) * vol.coeff[i].xy;
-  return c;
+// rgb sigma_s and sigma_t of all volumes at x.
+void volumeCoefficients(vec3 x, out vec3 scattering, out vec3 extinction) {
+  scattering = extinction = vec3(0.0);
+  for (int i = 0; i < VS_VOLUMES; ++i) {
+    float d = volumeDensityAt(i, x);
+    scattering += d * vol.scattering[i].rgb;
+    extinction += d * vol.extinction[i].rgb;
+  }
+}
+vec3 volumeExtinction(vec3 x) {
+  vec3 extinction = vec3(0.0);
+  for (int i = 0; i < VS_VOLUMES; ++i) extinction += volumeDensityAt(i, x) * vol.extinction[i].rgb;
+  return extinction;
+}
+// sigma_t averaged over the colour channels (each volume's mean) at x.
+float volumeMeanExtinction(vec3 x) {
+  float extinction = 0.0;
+  for (int i = 0; i < VS_VOLUMES; ++i) extinction += volumeDensityAt(i, x) * vol.coeff[i].y;
+  return extinction;
 }
 
 // Ray parameters [t0, t1] of the segment of a + t (b - a), t in [0, 1], inside volume i's box
@@ -308,8 +324,8 @@ vec2 volumeSegment(int i, vec3 a, vec3 b) {
 // Optical depth of the volumes between a and b: midpoint rule over each box's segment with
 // `stepsPerVoxel` steps per smallest voxel side (at most maxSteps per volume). `offset` in [0, 1)
 // shifts the midpoints (jitter).
-float volumeOpticalDepth(vec3 a, vec3 b, float stepsPerVoxel, int maxSteps, float offset) {
-  float depth = 0.0;
+vec3 volumeOpticalDepth(vec3 a, vec3 b, float stepsPerVoxel, int maxSteps, float offset) {
+  vec3 depth = vec3(0.0);
   float len = length(b - a);
   for (int i = 0; i < VS_VOLUMES; ++i) {
     vec2 seg = volumeSegment(i, a, b);
@@ -321,14 +337,14 @@ float volumeOpticalDepth(vec3 a, vec3 b, float stepsPerVoxel, int maxSteps, floa
     float dt = (seg.y - seg.x) / float(max(n, 1));
     float sum = 0.0;
     for (int k = 0; k < n; ++k) sum += volumeDensityAt(i, mix(a, b, seg.x + (float(k) + offset) * dt));
-    depth += sum * vol.coeff[i].y * dt * len;
+    depth += sum * dt * len * vol.extinction[i].rgb;
   }
   return depth;
 }
 
 // Transmittance of the volumes from x towards the light (to the light's position, or out of every
 // box along the light's direction for directional lights).
-float volumeLightTransmittance(vec3 x, float stepsPerVoxel, int maxSteps, float offset) {
+vec3 volumeLightTransmittance(vec3 x, float stepsPerVoxel, int maxSteps, float offset) {
   vec3 target;
   if (lightType() == LIGHT_DIRECTIONAL) {
     float reach = 0.0;

@@ -177,11 +177,12 @@ void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
   if (volumes_ && fboInscatter_ != frame.inscatter) {
     for (int k = 0; k < 2; ++k)
       passFbo_[k] = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, frame.inscatter},
-                                           {GL_COLOR_ATTACHMENT1, opticalDepth_[k].id()}});
+                                           {GL_COLOR_ATTACHMENT1, frame.volumeTransmittance},
+                                           {GL_COLOR_ATTACHMENT2, opticalDepth_[k].id()}});
     fboInscatter_ = frame.inscatter;
   }
   if (passes_ > 1) {
-    // Passes add their L_s; the alpha (the camera ray's volume transmittance) is the last pass's.
+    // Passes add their L_s; the camera ray's volume transmittance (draw buffer 1) is the last pass's.
     const float nothing[4] = {0, 0, 0, 1};
     glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, nothing);
     glEnablei(GL_BLEND, 0);
@@ -194,10 +195,11 @@ void RaymarchMethod::render(const Frame& frame, PassTimer& timer) {
     if (volumes_) {
       // Optical depth in from the previous pass, out to the other texture.
       glBindFramebuffer(GL_FRAMEBUFFER, passFbo_[pass % 2].id());
-      const GLenum targets[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-      glNamedFramebufferDrawBuffers(passFbo_[pass % 2].id(), 2, targets);
+      const GLenum targets[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+      glNamedFramebufferDrawBuffers(passFbo_[pass % 2].id(), 3, targets);
       glBindTextureUnit(bind::kFirstMethodUnit, opticalDepth_[(pass + 1) % 2].id());
       glDisablei(GL_BLEND, 1);
+      glDisablei(GL_BLEND, 2);
     } else {
       glBindFramebuffer(GL_FRAMEBUFFER, frame.inscatterFbo);
     }

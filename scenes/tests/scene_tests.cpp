@@ -726,7 +726,8 @@ TEST(Volumes, RawFilesOfEveryTypeLoadLittleEndianWithHeader) {
   const vs::Volume& v = f32.volumes[0];
   EXPECT_FLOAT_EQ(v.voxel(1, 1, 1), 1e4f);
   EXPECT_FLOAT_EQ(v.densityScale, 2.0f);
-  EXPECT_FLOAT_EQ(v.sigmaT(), 0.75f);
+  EXPECT_FLOAT_EQ(v.sigmaT().g, 0.75f);
+  EXPECT_FALSE(v.chromatic());
   // Trilinear between voxel centres, zero outside the box.
   EXPECT_FLOAT_EQ(v.densityAt(glm::vec3(-0.5f, 0.5f, -0.5f)), 0.0f);
   EXPECT_FLOAT_EQ(v.densityAt(glm::vec3(0.5f, 0.5f, -0.5f)), 2.5f);
@@ -736,6 +737,18 @@ TEST(Volumes, RawFilesOfEveryTypeLoadLittleEndianWithHeader) {
   dir.write("d.f32", rawBytesF32({0.0f, 2.5f, 0.5f, 0.25f, 0.0f, 0.0f, 0.0f, 1e3f}));
   Scene changed = vs::loadScene(dir.file("f32.json"));
   EXPECT_NE(changed.contentHash, f32.contentHash);
+}
+
+TEST(Volumes, CoefficientsAreANumberOrAnRgbTriple) {
+  const char* box = R"("density": [1], "dims": [1, 1, 1], "box_min": [-1, 0, -1], "box_max": [1, 2, 1])";
+  Scene s = parse(volumeScene(std::string(R"({"sigma_s": [0.5, 1, 2], "sigma_a": 0.25, )") + box + "}"));
+  const vs::Volume& v = s.volumes[0];
+  EXPECT_FLOAT_EQ(v.sigmaT().r, 0.75f);
+  EXPECT_FLOAT_EQ(v.sigmaT().b, 2.25f);
+  EXPECT_TRUE(v.chromatic());
+  TempDir dir;
+  expectErrorMentions(loadError(dir, volumeScene(std::string(R"({"sigma_a": [1, 2], )") + box + "}")), {"sigma_a"});
+  expectErrorMentions(loadError(dir, volumeScene(std::string(R"({"sigma_s": [1, -2, 1], )") + box + "}")), {"sigma_s"});
 }
 
 TEST(Volumes, GeneratorsMakeTheFourDataSetsAtTheirSizes) {

@@ -42,10 +42,11 @@ vec3 areaLightInscatter(vec3 x, vec3 dir) {
 }
 #endif
 #if VS_VOLUMES > 0
-// The camera ray's optical depth carried from pass to pass: x tau up to the previous sample, y its
-// distance, z sigma_t there.
+// The camera ray's rgb optical depth up to the previous sample (xyz) and its distance (w), carried
+// from pass to pass.
 layout(binding = 10) uniform sampler2D opticalDepthIn;
-layout(location = 1) out vec4 outOpticalDepth;
+layout(location = 1) out vec4 outVolumeTransmittance;
+layout(location = 2) out vec4 outOpticalDepth;
 #endif
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -57,15 +58,14 @@ void main() {
   float pixelOffset = m.pixelOffset;
   vec3 sum = vec3(0.0);
 #if VS_VOLUMES > 0
-  float tau = 0.0, sPrev = 0.0, sigmaTPrev = 0.0;
-  if (firstStep == 0) {
-    sigmaTPrev = volumeCoefficients(eye).y;
-  } else {
-    vec3 carried = texelFetch(opticalDepthIn, pixel, 0).xyz;
-    tau = carried.x;
-    sPrev = carried.y;
-    sigmaTPrev = carried.z;
+  vec3 tau = vec3(0.0);
+  float sPrev = 0.0;
+  if (firstStep > 0) {
+    vec4 carried = texelFetch(opticalDepthIn, pixel, 0);
+    tau = carried.xyz;
+    sPrev = carried.w;
   }
+  vec3 sigmaTPrev = volumeExtinction(eye + dir * sPrev);
 #endif
   for (int i = firstStep; i < lastStep; ++i) {
     float s, weight;
@@ -74,13 +74,14 @@ void main() {
     vec3 visibility = lightVisibility(x);
     float cosTheta = dot(lightTravelDir(x), -dir);
 #if VS_VOLUMES > 0
-    vec2 c = volumeCoefficients(x);
-    tau += 0.5 * (sigmaTPrev + c.y) * (s - sPrev);
+    vec3 volumeScattering, extinction;
+    volumeCoefficients(x, volumeScattering, extinction);
+    tau += 0.5 * (sigmaTPrev + extinction) * (s - sPrev);
     sPrev = s;
-    sigmaTPrev = c.y;
-    float scattering = sigmaS() + c.x;
+    sigmaTPrev = extinction;
+    vec3 scattering = sigmaS() + volumeScattering;
     // Nested march towards the light, only where this sample scatters and is not in a shadow.
-    int lightSteps = scattering > 0.0 && any(greaterThan(visibility, vec3(0.0))) ? lightStepsMax : 0;
+    int lightSteps = any(greaterThan(scattering, vec3(0.0))) && any(greaterThan(visibility, vec3(0.0))) ? lightStepsMax : 0;
     float offset = jitter != 0 ? fract(pixelOffset + float(i) * 0.7548776662) : 0.5;
     visibility *= volumeLightTransmittance(x, volumeStepsPerVoxel, lightSteps, offset);
     sum += weight * scattering * exp(-sigmaT() * s - tau) * visibility * phase(cosTheta) * lightIncident(x);
@@ -91,9 +92,10 @@ void main() {
 #endif
   }
 #if VS_VOLUMES > 0
-  outOpticalDepth = vec4(tau, sPrev, sigmaTPrev, 0.0);
-  float tauTotal = tau + (lastStep >= m.n ? sigmaTPrev * max(dist - sPrev, 0.0) : 0.0);
-  outInscatter = vec4(sum, exp(-tauTotal));
+  outOpticalDepth = vec4(tau, sPrev);
+  vec3 tauTotal = tau + (lastStep >= m.n ? sigmaTPrev * max(dist - sPrev, 0.0) : vec3(0.0));
+  outInscatter = vec4(sum, 1.0);
+  outVolumeTransmittance = vec4(exp(-tauTotal), 1.0);
 #else
   outInscatter = vec4(sum, 1.0);
 #endif
