@@ -22,6 +22,7 @@ struct DsmUniforms {
   glm::vec4 params;  // resolution, faces, knots
   glm::vec4 thresholds[4];
   glm::vec4 knotTaus[4];  // -ln(1 - threshold)
+  glm::vec4 channelRatio;  // rgb: dsm::channelRatios (one channel)
 };
 
 namespace dsm {
@@ -89,6 +90,41 @@ std::vector<float> knotThresholds(int knots, float first, float last) {
   return t;
 }
 
+static float mean(const glm::vec3& v) { return (v.x + v.y + v.z) / 3.0f; }
+
+// A volume's largest optical thickness along its box diagonal, per unit of mean sigma_t.
+static float thicknessWeight(const Volume& v) {
+  return v.densityScale * v.maxDensity() * glm::length(v.boxHi - v.boxLo);
+}
+
+glm::vec3 channelRatios(const Scene& scene) {
+  glm::vec3 channel(0.0f);
+  float total = 0.0f;
+  for (const Volume& v : scene.volumes) {
+    float w = thicknessWeight(v);
+    channel += w * v.sigmaT();
+    total += w * mean(v.sigmaT());
+  }
+  return total > 0.0f ? channel / total : glm::vec3(1.0f);
+}
+
+bool oneColour(const Scene& scene) {
+  glm::vec3 first(-1.0f);
+  for (const Volume& v : scene.volumes) {
+    float m = mean(v.sigmaT());
+    if (!(m > 0.0f) || !(thicknessWeight(v) > 0.0f)) continue;  // casts no shadow
+    glm::vec3 colour = v.sigmaT() / m;
+    if (first.x < 0.0f) first = colour;
+    else if (glm::length(colour - first) > 1e-5f * glm::length(first)) return false;
+  }
+  return true;
+}
+
+int channelsFor(const Scene& scene, const std::string& channels) {
+  if (channels == "auto") return oneColour(scene) ? 1 : 3;
+  return channels == "3" ? 3 : 1;
+}
+
 }  // namespace dsm
 
 static void unionBox(const Scene& scene, glm::vec3& lo, glm::vec3& hi) {
@@ -136,6 +172,8 @@ std::vector<ParamSpec> DsmMethod::params() const {
                             "knot thresholds: fixed opacities (the paper), or fractions first..last of each ray's final opacity (optical depth with segments=exponential)"),
           ParamSpec::choice("filter", "hardware", {"hardware", "texels"},
                             "lookup: one bilinear lookup of the knots (the paper), or the four nearest texels' visibility functions blended"),
+          ParamSpec::choice("channels", "auto", {"auto", "1", "3"},
+                            "visibility functions per texel: 1 (mean extinction, each colour channel's transmittance a power of it: exact for volumes of one colour), 3 (one per colour channel: generation and lookups x3), auto (3 only for volumes of different colours)"),
           ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
           ParamSpec::flag("surface", true, "Surface Shadows: re-shade surfaces with the DSM's transmittance")};
 }
@@ -200,7 +238,8 @@ std::string DsmMethod::unsupportedReason(const Scene& scene, const ParamValues& 
   unionBox(scene, lo, hi);
   int res = params.getInt("res");
   int faces = dsm::fitLightViews(scene.light, lo, hi, res).faces;
-  double bytes = double(res) * res * 16.0 * faces * dsm::layersFor(std::stoi(params.getString("knots")));
+  double bytes = double(res) * res * 16.0 * faces * dsm::layersFor(std::stoi(params.getString("knots"))) *
+                 dsm::channelsFor(scene, params.getString("channels"));
   if (bytes > kMaxMapBytes)
     return "res=" + std::to_string(res) + " needs " + std::to_string(int(bytes / 1048576.0)) +
            " MiB of deep shadow map (at most 1024 MiB)";
@@ -218,6 +257,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   hazeSteps_ = params.getInt("haze_steps");
   knots_ = std::stoi(params.getString("knots"));
   layers_ = dsm::layersFor(knots_);
+  channels_ = dsm::channelsFor(context.scene, params.getString("channels"));
+  tintedByRatio_ = channels_ == 1 && !dsm::oneColour(context.scene);
   jitter_ = params.getBool("jitter");
   surfaceShadows_ = params.getBool("surface");
   // Without meshes nothing but the volumes casts shadows: the map replaces the shared shadow map.
@@ -231,8 +272,9 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   glm::vec3 lo, hi;
   unionBox(context.scene, lo, hi);
   views_ = dsm::fitLightViews(context.scene.light, lo, hi, resolution_);
-  // Relative thresholds march every light ray twice (the final optical depth first).
-  generationSamples_ = generationSamples(context.scene, views_, resolution_, genStep_, genSteps_) * (relative ? 2.0 : 1.0);
+  // Relative thresholds march every light ray twice (the final optical depth first); each colour
+  // channel has its own marches.
+  generationSamples_ = generationSamples(context.scene, views_, resolution_, genStep_, genSteps_) * (relative ? 2.0 : 1.0) * channels_;
   DsmUniforms uniforms{};
   for (int f = 0; f < 6; ++f) {
     uniforms.faceViewProj[f] = views_.viewProj[size_t(f)];
@@ -244,31 +286,35 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
     uniforms.thresholds[k / 4][k % 4] = t[size_t(k)];
     uniforms.knotTaus[k / 4][k % 4] = -std::log(std::max(1.0f - t[size_t(k)], 1e-30f));
   }
+  uniforms.channelRatio = glm::vec4(dsm::channelRatios(context.scene), 0.0f);
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms, 0);
 
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
   map_ = gl::Texture(id);
-  glTextureStorage3D(id, 1, GL_RGBA32F, resolution_, resolution_, views_.faces * layers_);
+  glTextureStorage3D(id, 1, GL_RGBA32F, resolution_, resolution_, views_.faces * channels_ * layers_);
   GLenum filter = hardwareFilter ? GL_LINEAR : GL_NEAREST;
   gl::setFilter(id, filter, filter);
-  // One framebuffer per face, its layers attached once (MRT: knots 4j..4j+3 in target j).
+  // One framebuffer per face and colour channel, its layers attached once (MRT: knots 4j..4j+3 in
+  // target j); layer (face * channels + channel) * layers + j.
   std::vector<GLenum> targets;
   for (int j = 0; j < layers_; ++j) targets.push_back(GLenum(GL_COLOR_ATTACHMENT0 + j));
   faceFbos_.clear();
-  for (int face = 0; face < views_.faces; ++face) {
-    glCreateFramebuffers(1, &id);
-    faceFbos_.emplace_back(id);
-    for (int j = 0; j < layers_; ++j)
-      glNamedFramebufferTextureLayer(id, targets[size_t(j)], map_.id(), 0, face * layers_ + j);
-    glNamedFramebufferDrawBuffers(id, layers_, targets.data());
-    gl::checkFramebuffer(id, "deep shadow map");
-  }
+  for (int face = 0; face < views_.faces; ++face)
+    for (int channel = 0; channel < channels_; ++channel) {
+      glCreateFramebuffers(1, &id);
+      faceFbos_.emplace_back(id);
+      for (int j = 0; j < layers_; ++j)
+        glNamedFramebufferTextureLayer(id, targets[size_t(j)], map_.id(), 0, (face * channels_ + channel) * layers_ + j);
+      glNamedFramebufferDrawBuffers(id, layers_, targets.data());
+      gl::checkFramebuffer(id, "deep shadow map");
+    }
 
   std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
                         (hardwareFilter ? "1" : "0") + "\n#define DSM_SEGMENTS " + (exponential ? "1" : "0") +
-                        "\n#define DSM_RELATIVE " + (relative ? "1" : "0") + "\n#define DSM_FACES " + std::to_string(views_.faces) + "\n";
+                        "\n#define DSM_RELATIVE " + (relative ? "1" : "0") + "\n#define DSM_FACES " + std::to_string(views_.faces) +
+                        "\n#define DSM_CHANNELS " + std::to_string(channels_) + "\n";
   generateProgram_ = gl::buildFullscreen("methods/dsm/shaders/generate.frag",
                                          defines + "#define GEN_STEPS " + std::to_string(genSteps_) +
                                              "\n#define GEN_STEP_VOXELS " + std::to_string(genStep_) +
@@ -289,11 +335,13 @@ void DsmMethod::render(const Frame& frame, PassTimer& timer) {
     glBindTextureUnit(kDsmUnit, 0);
     glViewport(0, 0, resolution_, resolution_);
     glUseProgram(generateProgram_.id());
-    for (int face = 0; face < views_.faces; ++face) {
-      glBindFramebuffer(GL_FRAMEBUFFER, faceFbos_[size_t(face)].id());
-      glUniform1i(0, face);
-      gl::drawFullscreenTriangle();
-    }
+    for (int face = 0; face < views_.faces; ++face)
+      for (int channel = 0; channel < channels_; ++channel) {
+        glBindFramebuffer(GL_FRAMEBUFFER, faceFbos_[size_t(face * channels_ + channel)].id());
+        glUniform1i(0, face);
+        glUniform1i(1, channel);
+        gl::drawFullscreenTriangle();
+      }
   }
   glBindTextureUnit(kDsmUnit, map_.id());
   {
@@ -315,7 +363,8 @@ void DsmMethod::render(const Frame& frame, PassTimer& timer) {
 
 std::map<std::string, double> DsmMethod::stats(const std::map<std::string, TimingStats>& passes) const {
   double samples = generationSamples_;
-  std::map<std::string, double> out{{"dsm_faces", double(views_.faces)}, {"dsm_voxel_samples", samples}};
+  std::map<std::string, double> out{{"dsm_faces", double(views_.faces)}, {"dsm_channels", double(channels_)},
+                                    {"dsm_voxel_samples", samples}};
   auto it = passes.find(kGeneration);
   if (it != passes.end() && it->second.medianMs > 0.0)
     out["dsm_voxel_samples_per_s"] = samples / (it->second.medianMs * 1e-3);

@@ -1,15 +1,17 @@
 // The deep shadow map shared by its passes: DSM_KNOTS opacity knots per light texel, stored four
 // per RGBA32F layer, followed by the ray's final opacity (Shook: RGB = the 10/50/90 % depths, A =
 // the final opacity). Depths are distances from the light (directional: along its direction).
-// DSM_KNOTS and DSM_LAYERS are defined by the method.
+// DSM_KNOTS, DSM_LAYERS and DSM_CHANNELS (1: the mean extinction's map, 3: one per colour
+// channel) are defined by the method.
 layout(std140, binding = 4) uniform DsmBlock {
   mat4 faceViewProj[6];
   mat4 faceInvViewProj[6];
   vec4 params;         // x resolution, y faces (1 or 6), z knots
   vec4 thresholds[4];  // opacity of knot k in thresholds[k / 4][k % 4]
   vec4 knotTaus[4];    // its optical depth -ln(1 - opacity), same layout
+  vec4 channelRatio;   // DSM_CHANNELS 1: each colour channel's sigma_t over the mean (T_c = T^ratio_c)
 } dsm;
-layout(binding = 10) uniform sampler2DArray dsmKnots;  // layer = face * DSM_LAYERS + j
+layout(binding = 10) uniform sampler2DArray dsmKnots;  // layer = (face * DSM_CHANNELS + channel) * DSM_LAYERS + j
 
 #if DSM_FACES == 1
 mat4 faceViewProj(int face) { return dsm.faceViewProj[0]; }
@@ -88,13 +90,14 @@ int dsmFace(vec3 x) {
   return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
 }
 
-// Layer j of the map at a texel (DSM_FILTER 0), or filtered by the hardware at uv (DSM_FILTER 1:
-// knot depths and final opacity interpolated bilinearly, one lookup instead of four).
-vec4 dsmLayer(ivec2 texel, vec2 uv, int face, int j) {
+// Layer j of one map (plane = face * DSM_CHANNELS + channel) at a texel (DSM_FILTER 0), or
+// filtered by the hardware at uv (DSM_FILTER 1: knot depths and final opacity interpolated
+// bilinearly, one lookup instead of four).
+vec4 dsmLayer(ivec2 texel, vec2 uv, int plane, int j) {
 #if DSM_FILTER == 1
-  return textureLod(dsmKnots, vec3(uv, float(face * DSM_LAYERS + j)), 0.0);
+  return textureLod(dsmKnots, vec3(uv, float(plane * DSM_LAYERS + j)), 0.0);
 #else
-  return texelFetch(dsmKnots, ivec3(texel, face * DSM_LAYERS + j), 0);
+  return texelFetch(dsmKnots, ivec3(texel, plane * DSM_LAYERS + j), 0);
 #endif
 }
 
@@ -103,8 +106,8 @@ vec4 dsmLayer(ivec2 texel, vec2 uv, int face, int j) {
 // depth (DSM_SEGMENTS); a knot the ray never crossed sits at the exit.
 #if DSM_KNOTS == 3
 // The paper's layout in straight-line code (no local arrays: they cost llvmpipe a memory round trip).
-float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float exit) {
-  vec4 v = dsmLayer(texel, uv, face, 0);
+float texelOpacity(ivec2 texel, vec2 uv, int plane, float z, float entry, float exit) {
+  vec4 v = dsmLayer(texel, uv, plane, 0);
   float final = v.w;
   if (final <= 0.0 || z <= entry) return 0.0;
   float d0 = max(v.x, entry), d1 = max(v.y, d0), d2 = max(v.z, d1), d3 = max(exit, d2);
@@ -118,10 +121,10 @@ float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float e
   return valueOpacity(mix(aLo, aHi, clamp((z - lo) / max(hi - lo, 1e-20), 0.0, 1.0)));
 }
 #else
-float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float exit) {
+float texelOpacity(ivec2 texel, vec2 uv, int plane, float z, float entry, float exit) {
   float values[DSM_LAYERS * 4];
   for (int j = 0; j < DSM_LAYERS; ++j) {
-    vec4 v = dsmLayer(texel, uv, face, j);
+    vec4 v = dsmLayer(texel, uv, plane, j);
     values[4 * j] = v.x;
     values[4 * j + 1] = v.y;
     values[4 * j + 2] = v.z;
@@ -147,34 +150,46 @@ float texelOpacity(ivec2 texel, vec2 uv, int face, float z, float entry, float e
 }
 #endif
 
-// Transmittance of the volume data from the light to x, read from the DSM with bilinear weights
-// between the four nearest texels (each texel's visibility function evaluated at x's depth), or
-// from one hardware-filtered lookup (DSM_FILTER 1).
-float dsmTransmittance(vec3 x) {
-  int face = dsmFace(x);
-  vec4 p = faceViewProj(face) * vec4(x, 1.0);
-  if (p.w <= 1e-20) return 1.0;
-  float size = dsm.params.x;
-  vec2 st = (p.xy / p.w * 0.5 + 0.5) * size - 0.5;
-  if (any(lessThan(st, vec2(-0.5))) || any(greaterThan(st, vec2(size - 0.5)))) return 1.0;
-  vec3 origin, dir;
-  lightRayThrough(x, origin, dir);
-  vec2 span = volumeSpan(origin, dir, lightRayStart());
-  if (span.x >= span.y) return 1.0;
-  float z = lightDepth(x);
-  float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
-  float entry = base + span.x, exit = base + span.y;
+// Opacity at depth z of one map (plane), bilinear between the four nearest texels' visibility
+// functions, or from one hardware-filtered lookup (DSM_FILTER 1).
+float mapOpacity(vec2 st, float size, int plane, float z, float entry, float exit) {
 #if DSM_FILTER == 1
-  float a = texelOpacity(ivec2(0), (st + 0.5) / size, face, z, entry, exit);
+  return texelOpacity(ivec2(0), (st + 0.5) / size, plane, z, entry, exit);
 #else
   vec2 f = fract(st);
   ivec2 t0 = clamp(ivec2(floor(st)), ivec2(0), ivec2(int(size) - 1));
   ivec2 t1 = min(t0 + 1, ivec2(int(size) - 1));
-  float a00 = texelOpacity(t0, vec2(0.0), face, z, entry, exit);
-  float a10 = texelOpacity(ivec2(t1.x, t0.y), vec2(0.0), face, z, entry, exit);
-  float a01 = texelOpacity(ivec2(t0.x, t1.y), vec2(0.0), face, z, entry, exit);
-  float a11 = texelOpacity(t1, vec2(0.0), face, z, entry, exit);
-  float a = mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
+  float a00 = texelOpacity(t0, vec2(0.0), plane, z, entry, exit);
+  float a10 = texelOpacity(ivec2(t1.x, t0.y), vec2(0.0), plane, z, entry, exit);
+  float a01 = texelOpacity(ivec2(t0.x, t1.y), vec2(0.0), plane, z, entry, exit);
+  float a11 = texelOpacity(t1, vec2(0.0), plane, z, entry, exit);
+  return mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
 #endif
+}
+
+// Transmittance (rgb) of the volume data from the light to x: per colour channel from its own map
+// (DSM_CHANNELS 3), or the mean extinction's transmittance T raised to each channel's ratio.
+vec3 dsmTransmittance(vec3 x) {
+  int face = dsmFace(x);
+  vec4 p = faceViewProj(face) * vec4(x, 1.0);
+  if (p.w <= 1e-20) return vec3(1.0);
+  float size = dsm.params.x;
+  vec2 st = (p.xy / p.w * 0.5 + 0.5) * size - 0.5;
+  if (any(lessThan(st, vec2(-0.5))) || any(greaterThan(st, vec2(size - 0.5)))) return vec3(1.0);
+  vec3 origin, dir;
+  lightRayThrough(x, origin, dir);
+  vec2 span = volumeSpan(origin, dir, lightRayStart());
+  if (span.x >= span.y) return vec3(1.0);
+  float z = lightDepth(x);
+  float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
+  float entry = base + span.x, exit = base + span.y;
+#if DSM_CHANNELS == 3
+  int plane = face * 3;
+  vec3 a = vec3(mapOpacity(st, size, plane, z, entry, exit), mapOpacity(st, size, plane + 1, z, entry, exit),
+                mapOpacity(st, size, plane + 2, z, entry, exit));
   return clamp(1.0 - a, 0.0, 1.0);
+#else
+  float t = clamp(1.0 - mapOpacity(st, size, face, z, entry, exit), 0.0, 1.0);
+  return exp(dsm.channelRatio.rgb * log(max(t, 1e-30)));
+#endif
 }

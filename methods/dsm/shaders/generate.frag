@@ -4,11 +4,21 @@
 // opacity 1 - exp(-tau), and store the depth at which it crosses each knot's threshold; the last
 // slot holds the final opacity. Interpolation of a crossing between the two steps around it:
 // linear in opacity (or in optical depth with DSM_SEGMENTS 1, exact under the midpoint rule),
-// smoothstep (the paper's) or bucket (the depth before the crossing step).
+// smoothstep (the paper's) or bucket (the depth before the crossing step). With DSM_CHANNELS 3
+// each colour channel has its own map (one draw per channel), otherwise the mean extinction's.
 #include "common.glsl"
 #include "dsm.glsl"
 layout(location = 0) uniform int face;
+layout(location = 1) uniform int channel;
 layout(location = 0) out vec4 outKnots[DSM_LAYERS];
+
+float extinctionAt(vec3 x) {
+#if DSM_CHANNELS == 3
+  return volumeExtinction(x)[channel];
+#else
+  return volumeMeanExtinction(x);
+#endif
+}
 
 void main() {
   float size = dsm.params.x;
@@ -34,7 +44,7 @@ void main() {
   float lastValue = 0.0;
 #if DSM_RELATIVE == 1
   float tauFinal = 0.0;
-  for (int i = 0; i < steps; ++i) tauFinal += volumeCoefficients(origin + dir * (span.x + (float(i) + 0.5) * dt)).y * dt;
+  for (int i = 0; i < steps; ++i) tauFinal += extinctionAt(origin + dir * (span.x + (float(i) + 0.5) * dt)) * dt;
   lastValue = finalValue(1.0 - exp(-tauFinal));
 #endif
   // Crossings are found in the interpolated quantity (opacity, or optical depth with DSM_SEGMENTS 1).
@@ -43,7 +53,7 @@ void main() {
   for (int i = 0; i < steps; ++i) {
     float t = span.x + (float(i) + 0.5) * dt;
     float previousTau = tau, previousOpacity = opacity;
-    tau += volumeCoefficients(origin + dir * t).y * dt;
+    tau += extinctionAt(origin + dir * t) * dt;
     opacity = 1.0 - exp(-tau);
 #if DSM_SEGMENTS == 1
     float previous = previousTau, current = tau;

@@ -8,10 +8,11 @@
 #include "dsm.glsl"
 layout(location = 0) uniform int jitter;
 layout(location = 0) out vec4 outInscatter;
+layout(location = 1) out vec4 outVolumeTransmittance;
 
 // In-scattered radiance at x for a volume transmittance from the DSM.
-vec3 inscatterAt(vec3 x, vec3 dir, float scattering, float volumeTransmittance) {
-  if (scattering <= 0.0) return vec3(0.0);
+vec3 inscatterAt(vec3 x, vec3 dir, vec3 scattering, vec3 volumeTransmittance) {
+  if (all(lessThanEqual(scattering, vec3(0.0)))) return vec3(0.0);
   vec3 visibility = lightVisibility(x);
   if (all(equal(visibility, vec3(0.0)))) return vec3(0.0);
   float cosTheta = dot(lightTravelDir(x), -dir);
@@ -35,18 +36,20 @@ void main() {
 
   // Inside the span: volume + haze, optical depth accumulated sample to sample.
   vec3 sum = vec3(0.0);
-  float tauVolume = 0.0, sPrev = a, sigmaPrev = 0.0;
+  vec3 tauVolume = vec3(0.0), sigmaPrev = vec3(0.0);
+  float sPrev = a;
   float dtV = (b - a) / float(VIEW_STEPS);
   // Fixed trip counts: llvmpipe ended data-dependent loops early around nested loops.
   if (inside) for (int i = 0; i < VIEW_STEPS; ++i) {
     float s = a + (float(i) + (jitter != 0 ? fract(offset + float(i) * goldenRatio) : 0.5)) * dtV;
     vec3 x = eye + dir * s;
-    vec2 c = volumeCoefficients(x);
-    if (i == 0) sigmaPrev = c.y;  // [a, first sample]: the box's face may read as outside
-    tauVolume += 0.5 * (sigmaPrev + c.y) * (s - sPrev);
+    vec3 scattering, extinction;
+    volumeCoefficients(x, scattering, extinction);
+    if (i == 0) sigmaPrev = extinction;  // [a, first sample]: the box's face may read as outside
+    tauVolume += 0.5 * (sigmaPrev + extinction) * (s - sPrev);
     sPrev = s;
-    sigmaPrev = c.y;
-    sum += dtV * exp(-sigmaT() * s - tauVolume) * inscatterAt(x, dir, sigmaS() + c.x, dsmTransmittance(x));
+    sigmaPrev = extinction;
+    sum += dtV * exp(-sigmaT() * s - tauVolume) * inscatterAt(x, dir, sigmaS() + scattering, dsmTransmittance(x));
   }
   tauVolume += sigmaPrev * max(b - sPrev, 0.0);
 
@@ -65,7 +68,8 @@ void main() {
     thetaA = atan(-delta, D);
     thetaB = atan(dist - delta, D);
   }
-  float behind = max(exp(-tauVolume), 1e-30);
+  vec3 through = exp(-tauVolume);
+  float behind = max((through.r + through.g + through.b) / 3.0, 1e-30);
   float measure = front + back * behind;  // samples per unit length: 1 in front, `behind` behind
   float dtH = measure / float(max(HAZE_STEPS, 1));
   if (haze > 0.0 && measure > 0.0 && sigmaS() > 0.0) for (int i = 0; i < HAZE_STEPS; ++i) {
@@ -79,10 +83,11 @@ void main() {
       s = h < front ? h : min(b + (h - front) / behind, dist);
       weight = h < front ? dtH : dtH / behind;
     }
-    float tau = sigmaT() * s + (s > b ? tauVolume : 0.0);
+    vec3 tau = sigmaT() * s + (s > b ? tauVolume : vec3(0.0));
     vec3 x = eye + dir * s;
-    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, sigmaS(), dsmTransmittance(x));
+    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, vec3(sigmaS()), dsmTransmittance(x));
   }
   vec3 L = all(lessThan(abs(sum), vec3(3.0e38))) ? sum : vec3(0.0);
-  outInscatter = vec4(L, exp(-tauVolume));
+  outInscatter = vec4(L, 1.0);
+  outVolumeTransmittance = vec4(through, 1.0);
 }
