@@ -86,6 +86,10 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
                                      {"box_max", hi},
                                      {"sigma_s", r.logUniform(1e-3, 20)},
                                      {"sigma_a", r.chance(0.3) ? 0.0 : r.logUniform(1e-3, 5)}}});
+    if (r.chance(0.4)) {  // tinted: per-channel absorption (coloured shadows); drawn last, so the rest stays
+      double a = r.logUniform(1e-3, 5);
+      scene["volumes"][0]["sigma_a"] = json::array({a * r.uniform(0.05, 1.0), a, a * r.uniform(1.0, 4.0)});
+    }
   }
   return parseSceneJson(scene.dump(), ".", "stress config " + std::to_string(seed) + "/" + std::to_string(index));
 }

@@ -52,6 +52,33 @@ TEST_F(VolumeTest, SlabAttenuatesAsBeerLambert) {
   }
 }
 
+TEST_F(VolumeTest, TintedSlabAttenuatesEachChannelAsBeerLambert) {
+  // Per-channel sigma_a: each channel of the ground behind the slab follows its own exp(-k_c (1 + 1/c)).
+  const double k[3] = {0.25, 1.0, 3.0};
+  std::string text = slabScene(0.0);
+  text.replace(text.find("\"sigma_a\": 0"), std::string("\"sigma_a\": 0.000000").size(), "\"sigma_a\": [0.25, 1, 3]");
+  Scene scene = sceneFromJson(text);
+  EXPECT_TRUE(deriveEffects(scene).coloredShadows);
+  GroundTruthOptions options;
+  options.width = 8;
+  options.height = 6;
+  options.steps = 64;
+  GroundTruth gt = renderGroundTruth(scene, options);
+  MethodRun ref = renderScene(scene, "raymarch:steps=4096", 8, 6);
+  ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) {
+      glm::dvec3 dir;
+      double dist;
+      pixelRay(scene, 8, 6, x, y, dir, dist);
+      for (int c = 0; c < 3; ++c) {
+        double expected = 0.5 / M_PI * 2.0 * std::exp(-k[c]) * std::exp(-k[c] / std::fabs(dir.y));
+        EXPECT_NEAR(gt.final.at(x, y)[c], expected, 1e-5 * expected) << "ground truth, channel " << c;
+        EXPECT_NEAR(ref.final.at(x, y)[c], expected, 1e-2 * expected) << "raymarch, channel " << c;
+      }
+    }
+}
+
 TEST_F(VolumeTest, ScatteringSlabMatchesClosedForm) {
   // A scattering slab (sigma_s = sigma_t = k) lit from straight above and seen from above: along a
   // view ray at cosine c to the vertical, depth z = c s below the slab's top, L_s =
