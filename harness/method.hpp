@@ -85,7 +85,8 @@ class Method {
   // moves the light between renders (harness/vpl.hpp).
   virtual bool lightFixedAtSetup() const { return false; }
   // Where the method departs from the model (README "What is computed"), one short phrase each,
-  // e.g. "homogeneous extinction along light rays"; recorded in every result row.
+  // e.g. "homogeneous extinction along light rays"; recorded in every result row. Read before
+  // setup and again after it, which may add the departures of this scene and these parameters.
   virtual std::vector<std::string> approximations() const { return {}; }
   // Allocate and compile; called once before the frames. Throw to fail the run with a reason.
   virtual void setup(const SetupContext& context, const ParamValues& params) = 0;

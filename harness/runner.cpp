@@ -210,10 +210,13 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   result.method = method.name();
   result.params = params.canonical();
   result.shadowMapSize = params.getInt("sm");
-  result.approximations = method.approximations();
-  if (params.getInt("vpls") > 0)
-    result.approximations.push_back("area light as " + std::to_string(params.getInt("vpls")) +
-                                    " virtual point lights (per-VPL wrapper)");
+  auto approximations = [&] {
+    result.approximations = method.approximations();
+    if (params.getInt("vpls") > 0)
+      result.approximations.push_back("area light as " + std::to_string(params.getInt("vpls")) +
+                                      " virtual point lights (per-VPL wrapper)");
+  };
+  approximations();
   std::string unsupported = unsupportedReason(method, params);
   if (!unsupported.empty()) {
     result.status = RunStatus::Unsupported;
@@ -223,6 +226,7 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   gl::resetDebugErrorCount();
   try {
     result.setupMs = setUp(method, params);
+    approximations();  // setup may know more (the scene's and parameters' departures)
     PassTimer timer(options_.timer);
     int total = options_.warmup + options_.frames;
     for (int f = 0; f < total; ++f) {
