@@ -300,8 +300,8 @@ void volumeCoefficients(vec3 x, out vec3 scattering, out vec3 extinction) {
   }
 }
 vec3 volumeExtinction(vec3 x) {
-  vec3 extinction = vec3(0.0);
-  for (int i = 0; i < VS_VOLUMES; ++i) extinction += volumeDensityAt(i, x) * vol.extinction[i].rgb;
+  vec3 scattering, extinction;
+  volumeCoefficients(x, scattering, extinction);
   return extinction;
 }
 // sigma_t averaged over the colour channels (each volume's mean) at x.
