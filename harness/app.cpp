@@ -125,8 +125,13 @@ struct RunPlan {
   Effects effects;
   std::vector<Job> jobs;
   bool exactReference = false;  // --reference exact
-  bool haveExact = false;       // the ground truth is rendered (--exact or --reference exact)
+  bool haveExact = false;       // the ground truth is rendered (--exact, --reference exact, --equal-quality)
   bool haveReference = true;
+  // --equal-quality matches errors against the exact ground truth where it models the scene: then
+  // no estimator gains from sharing the ray-marched reference's shadow-map filter. Otherwise against
+  // the reference, and equalQualityNote says why.
+  bool equalQualityExact = false;
+  std::string equalQualityNote;
 };
 
 // The images rows are measured against.
@@ -199,9 +204,11 @@ std::pair<double, double> roundRange(const std::vector<TimingStats>& rounds) {
 
 // Equal quality against brute force: ray marching (the registered reference method) with uniform
 // or equiangular steps, at the row's shadow-map size, bisected on its step count to reach the row's
-// L_s relMSE against the reference (RMSE would be decided by the few pixels next to an on-screen
-// light, where uniform steps are worst); and its L_s RMSE at the row's scattering time. Each baseline
-// point is measured once per run (memoised) with min(frames, 2) frames after one warm-up frame.
+// L_s relMSE (RMSE would be decided by the few pixels next to an on-screen light, where uniform steps
+// are worst); and its L_s RMSE at the row's scattering time. Errors are taken against `truth`: the
+// exact-visibility ground truth where it models the scene, since the ray-marched reference shares
+// raymarch's 2x2 PCF shadow-map filter and would favour it. Each baseline point is measured once per
+// run (memoised) with min(frames, 2) frames after one warm-up frame.
 class EqualQuality {
  public:
   struct Point {
@@ -216,8 +223,8 @@ class EqualQuality {
   static constexpr int kMaxSteps = 4096;
 
   EqualQuality(const RunPlan& plan, const gl::Limits& limits, const MethodRegistry& registry, RunOptions options,
-               const Reference& reference, Progress& progress)
-      : plan_(plan), limits_(limits), registry_(registry), reference_(reference), progress_(progress) {
+               const Image& truth, Progress& progress)
+      : plan_(plan), limits_(limits), registry_(registry), truth_(truth), progress_(progress) {
     options.frames = std::min(options.frames, 2);
     options.warmup = 1;
     options.workCounters = false;
@@ -244,7 +251,7 @@ class EqualQuality {
     Point p;
     if (r.status == RunStatus::Success) {
       p.ok = true;
-      ErrorMetrics e = compareImages(r.inscatter, reference_.inscatter);
+      ErrorMetrics e = compareImages(r.inscatter, truth_);
       p.lsRmse = e.rmse;
       p.lsRelmse = e.relmse;
       p.scatterMs = scatterMs(r);
@@ -296,7 +303,7 @@ class EqualQuality {
   const RunPlan& plan_;
   const gl::Limits& limits_;
   const MethodRegistry& registry_;
-  const Reference& reference_;
+  const Image& truth_;
   Progress& progress_;
   std::unique_ptr<Runner> runner_;
   std::string baseline_;
@@ -337,6 +344,11 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   plan.haveExact = req.exact || plan.exactReference;
   plan.haveReference = !req.noReference;
   if (plan.haveExact && !groundTruthUnsupported(plan.scene).empty()) throw UsageError(groundTruthUnsupported(plan.scene));
+  if (req.equalQuality && plan.haveReference) {
+    plan.equalQualityNote = groundTruthUnsupported(plan.scene);
+    plan.equalQualityExact = plan.equalQualityNote.empty();
+    plan.haveExact = plan.haveExact || plan.equalQualityExact;
+  }
   if (!plan.exactReference && !req.referenceSpec.empty())
     createMethod(registry, parseMethodSpec(req.referenceSpec).method);
   return plan;
@@ -528,10 +540,14 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
     gt.height = plan.height;
     gt.steps = req.exactSteps;
     gt.seed = options.seed;
-    base.exact = renderGroundTruth(plan.scene, gt, [&](int done, int total) { progress.frames(done, total); });
-    progress.finished("computed in " + num(base.exact.computeMs / 1000.0) + " s (" + std::to_string(req.exactSteps) +
-                      " steps per ray, Embree visibility)");
-    meta["exact"] = {{"steps", req.exactSteps}, {"compute_ms", base.exact.computeMs}};
+    base.exact = obtainGroundTruth(plan.scene, gt, req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir,
+                                   [&](int done, int total) { progress.frames(done, total); });
+    progress.finished((base.exact.fromCache ? std::string("from cache")
+                                            : "computed in " + num(base.exact.computeMs / 1000.0) + " s") +
+                      " (" + std::to_string(req.exactSteps) + " steps per ray, Embree visibility)");
+    meta["exact"] = {{"steps", req.exactSteps},           {"compute_ms", base.exact.computeMs},
+                     {"from_cache", base.exact.fromCache}, {"cache_key", base.exact.cacheKey},
+                     {"cache_path", base.exact.cachePath}};
     if (!plan.exactReference) ++item;
   }
   if (!plan.haveReference) return base;
@@ -582,16 +598,20 @@ Measured measureJob(Runner& runner, const Job& job, const MethodRegistry& regist
 }
 
 // Fills the equal-quality columns of a successful, measured row (not for the baseline's own rows).
-void addEqualQuality(ResultRow& row, const Measured& m, EqualQuality& eq, const Effects& effects) {
+void addEqualQuality(ResultRow& row, const Measured& m, EqualQuality& eq, const RunPlan& plan) {
   const MethodRun& r = m.run;
   if (r.status != RunStatus::Success) return;
   double ms = scatterMs(r);  // the row's scatter_ms
   if (!m.measured || r.method == eq.baseline() || eq.baseline().empty()) return;
+  if (plan.equalQualityExact && !m.exactMeasured) return;
+  const double target = plan.equalQualityExact ? m.exactLsErr.relmse : m.lsErr.relmse;
+  row.set("eq_error_against", plan.equalQualityExact ? "exact" : "reference (" + plan.equalQualityNote + ")");
+  const Effects& effects = plan.effects;
   std::vector<std::string> samplings = {"uniform"};
   bool pointLike = effects.light == LightType::Point || effects.light == LightType::Spot;
   if (pointLike) samplings.push_back("equiangular");
   for (const std::string& sampling : samplings) {
-    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, m.lsErr.relmse, ms);
+    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, target, ms);
     if (!match.any) continue;
     // A baseline that never reaches the row's error within kMaxSteps gives a lower bound: ">=".
     row.set("eq_" + sampling + "_steps", (match.reached ? "" : ">=") + std::to_string(match.steps));
@@ -681,7 +701,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   options.workCounters = true;
 
   Progress progress(int(plan.jobs.size()) * req.rounds + (plan.haveReference ? 1 : 0) +
-                    (req.exact && !plan.exactReference ? 1 : 0));
+                    (plan.haveExact && !plan.exactReference ? 1 : 0));
   int item = 0;
   Baselines base = prepareBaselines(req, plan, limits, registry, options, progress, item, meta);
   files.writeMeta(meta);
@@ -694,8 +714,14 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   std::unique_ptr<Runner> laterRunner;
   if (req.rounds > 1) laterRunner = std::make_unique<Runner>(plan.scene, limits, laterOptions);
   std::unique_ptr<EqualQuality> equalQuality;
-  if (req.equalQuality && plan.haveReference && plan.effects.scattering)
-    equalQuality = std::make_unique<EqualQuality>(plan, limits, registry, options, base.reference, progress);
+  if (req.equalQuality && plan.haveReference && plan.effects.scattering) {
+    equalQuality = std::make_unique<EqualQuality>(
+        plan, limits, registry, options, plan.equalQualityExact ? base.exact.inscatter : base.reference.inscatter,
+        progress);
+    meta["equal_quality"] = {{"error_against", plan.equalQualityExact ? "exact" : "reference"},
+                             {"why", plan.equalQualityNote}};
+    files.writeMeta(meta);
+  }
   int failures = 0;
   std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr", "ssim");
   std::vector<Measured> firsts(plan.jobs.size());
@@ -738,7 +764,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
         row.set("scatter_round_max_ms", *std::max_element(t.scatter.begin(), t.scatter.end()));
       }
       bool lastRound = round == req.rounds - 1;
-      if (equalQuality && lastRound) addEqualQuality(row, m, *equalQuality, plan.effects);
+      if (equalQuality && lastRound) addEqualQuality(row, m, *equalQuality, plan);
       files.addRows(row, r, plan.scene.name, timer, info.glRenderer, t);
       progress.finished(jobSummary(m));
       if (!lastRound && r.status == RunStatus::Success) continue;  // printed once, after the last round

@@ -23,12 +23,19 @@ struct GroundTruthOptions {
 struct GroundTruth {
   Image inscatter, final;
   double computeMs = 0;
+  bool fromCache = false;
+  std::string cacheKey, cachePath;  // set by obtainGroundTruth
 };
 
 // Empty when the ground truth can integrate `scene`; otherwise why not (e.g. light textures).
 std::string groundTruthUnsupported(const Scene& scene);
 // Throws std::runtime_error when unsupported. progress(rowsDone, rows) is called from one thread.
 GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& options,
+                              const std::function<void(int, int)>& progress = {});
+// renderGroundTruth through an on-disk cache in `cacheDir`, keyed by the scene's content, size,
+// steps, light samples, seed and this code's source (a second run at the same settings reads it).
+// The number of threads does not change the result and is not part of the key.
+GroundTruth obtainGroundTruth(const Scene& scene, const GroundTruthOptions& options, const std::string& cacheDir,
                               const std::function<void(int, int)>& progress = {});
 
 }  // namespace vs

@@ -44,7 +44,9 @@ int main(int argc, char** argv) {
     cmd->add_flag("--no-images", r.noImages, "write no images");
     cmd->add_flag("--equal-quality", r.equalQuality,
                   "add the equal-quality columns: brute-force ray marching (uniform and equiangular) bisected on its "
-                  "step count to each row's L_s error, and its error at each row's scattering time");
+                  "step count to each row's L_s error, and its error at each row's scattering time; errors are "
+                  "taken against the exact-visibility ground truth (computed on the CPU, cached) where it models "
+                  "the scene");
     cmd->add_flag("--strict-gl", r.strictGl, "treat any GL debug error as fatal");
   };
   auto* runCmd = app.add_subcommand("run", "run the given methods on one scene");

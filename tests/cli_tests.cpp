@@ -333,6 +333,87 @@ TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
 namespace vs::testing {
 namespace {
 
+// The match is fair: the row's L_s error and the baseline's are both taken against the exact
+// ground truth, so raymarch gains nothing from sharing the reference's 2x2 PCF. Checked by running
+// the matched baseline and one step fewer against the same (cached) ground truth, on the fence,
+// whose wires alias in the shadow map (matched against the reference, the step count differs).
+TEST(CliTest, EqualQualityIsMatchedAgainstTheExactGroundTruth) {
+  std::string dir = makeTempDir("equal-quality-exact");
+  std::string cache = dir + "/cache";
+  CommandResult r = runVshadow({"shootout", "--scene", "fence", "--method", "minmax", "--rungs", "first", "--size",
+                                "48x36", "--frames", "1", "--warmup", "0", "--no-images", "--equal-quality", "--out",
+                                dir + "/out", "--cache", cache});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  CsvTable runs = loadCsv(dir + "/out/runs.csv", runsColumns(), kRunsKeyColumns);
+  ASSERT_EQ(runs.rows().size(), 1u);
+  const auto& row = runs.rows()[0];
+  EXPECT_EQ(field(runs, row, "eq_error_against"), "exact");
+  double target = std::stod(field(runs, row, "exact_ls_relmse"));
+  std::string steps = field(runs, row, "eq_uniform_steps");
+  ASSERT_FALSE(steps.empty());
+  ASSERT_NE(steps.rfind(">=", 0), 0u) << "the baseline should reach minmax's first rung at 48x36";
+  auto meta = nlohmann::json::parse(readFile(dir + "/out/meta.json"));
+  EXPECT_EQ(meta["equal_quality"]["error_against"], "exact");
+  EXPECT_EQ(meta["exact"]["from_cache"], false);
+
+  auto exactError = [&](int n, const std::string& out) {
+    CommandResult b = runVshadow({"run", "--scene", "fence", "--method",
+                                  "raymarch:sampling=uniform:steps=" + std::to_string(n) + ":sm=" +
+                                      field(runs, row, "shadow_map"),
+                                  "--size", "48x36", "--frames", "1", "--warmup", "1", "--no-images", "--exact",
+                                  "--out", out, "--cache", cache});
+    EXPECT_EQ(b.exitCode, 0) << b.err;
+    // The second computation of the same ground truth is read from the cache.
+    EXPECT_EQ(nlohmann::json::parse(readFile(out + "/meta.json"))["exact"]["from_cache"], true);
+    CsvTable t = loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns);
+    return t.rows().empty() ? -1.0 : std::stod(field(t, t.rows()[0], "exact_ls_relmse"));
+  };
+  int n = std::stoi(steps);
+  EXPECT_LE(exactError(n, dir + "/at"), target);
+  if (n > 1) {
+    EXPECT_GT(exactError(n - 1, dir + "/below"), target);
+  }
+  // The ray-marched reference plays no part in the match: a far worse one changes every reference
+  // error column but not the matched step counts.
+  CommandResult coarse = runVshadow({"shootout", "--scene", "fence", "--method", "minmax", "--rungs", "first", "--size",
+                                     "48x36", "--frames", "1", "--warmup", "0", "--no-images", "--equal-quality",
+                                     "--reference", "raymarch:steps=3", "--out", dir + "/coarse", "--cache", cache});
+  ASSERT_EQ(coarse.exitCode, 0) << coarse.err;
+  CsvTable coarseRuns = loadCsv(dir + "/coarse/runs.csv", runsColumns(), kRunsKeyColumns);
+  ASSERT_EQ(coarseRuns.rows().size(), 1u);
+  const auto& coarseRow = coarseRuns.rows()[0];
+  EXPECT_NE(field(coarseRuns, coarseRow, "ls_relmse"), field(runs, row, "ls_relmse"));
+  for (const char* column : {"eq_uniform_steps", "eq_equiangular_steps", "exact_ls_relmse"})
+    EXPECT_EQ(field(coarseRuns, coarseRow, column), field(runs, row, column)) << column;
+
+  // A light texture, which the ground truth does not model: matched against the reference, and the
+  // row says so.
+  Image gobo(2, 2);
+  gobo.rgb.assign(gobo.rgb.size(), 1.0f);
+  writeExr(dir + "/gobo.exr", gobo);
+  writeFile(dir + "/textured.json", R"({
+    "geometry": [{"generator": "plane", "params": {"center": [0, 0, 0], "size": [20, 20]}, "albedo": [0.7, 0.7, 0.7]},
+                 {"generator": "sphere", "params": {"center": [0, 2, -1], "radius": 1.0, "segments": 16}, "albedo": [0.8, 0.8, 0.8]}],
+    "camera": {"position": [0, 2.2, 8], "target": [0, 2.0, -1], "fov_y_deg": 60, "near": 0.1, "far": 50},
+    "light": {"type": "spot", "position": [0, 6, -1], "direction": [0, -1, 0], "spot_inner_deg": 30,
+              "spot_outer_deg": 40, "intensity": 100, "texture": "gobo.exr"},
+    "medium": {"sigma_s": 0.1, "sigma_a": 0.01}})");
+  CommandResult t = runVshadow({"shootout", "--scene", dir + "/textured.json", "--method", "minmax", "--rungs", "first",
+                                "--size", "32x24", "--frames", "1", "--warmup", "0", "--no-images", "--equal-quality",
+                                "--out", dir + "/textured", "--cache", cache});
+  ASSERT_EQ(t.exitCode, 0) << t.err;
+  CsvTable textured = loadCsv(dir + "/textured/runs.csv", runsColumns(), kRunsKeyColumns);
+  ASSERT_EQ(textured.rows().size(), 1u);
+  EXPECT_EQ(field(textured, textured.rows()[0], "eq_error_against").rfind("reference (", 0), 0u);
+  EXPECT_FALSE(field(textured, textured.rows()[0], "eq_uniform_steps").empty());
+}
+
+}  // namespace
+}  // namespace vs::testing
+
+namespace vs::testing {
+namespace {
+
 // --rungs picks rungs of every ladder by position: raymarch's six rungs, first and middle (6/2 = 3).
 TEST(CliTest, RungsPicksPositionsOfEachLadder) {
   std::string dir = makeTempDir("rungs");
