@@ -236,6 +236,9 @@ class EqualQuality {
       }
   }
   const std::string& baseline() const { return baseline_; }
+  std::string spec(const std::string& sampling, int sm, int steps) const {
+    return baseline_ + ":steps=" + std::to_string(steps) + ":sampling=" + sampling + ":sm=" + std::to_string(sm);
+  }
 
   Point at(const std::string& sampling, int sm, int steps) {
     auto key = std::make_tuple(sampling, sm, steps);
@@ -243,9 +246,7 @@ class EqualQuality {
     if (it != points_.end()) return it->second;
     progress_.note("equal quality: " + baseline_ + " " + sampling + " steps=" + std::to_string(steps) +
                    " sm=" + std::to_string(sm));
-    ResolvedSpec spec = resolveSpec(baseline_ + ":steps=" + std::to_string(steps) + ":sampling=" + sampling +
-                                        ":sm=" + std::to_string(sm),
-                                    limits_, registry_);
+    ResolvedSpec spec = resolveSpec(this->spec(sampling, sm, steps), limits_, registry_);
     auto method = createMethod(registry_, baseline_);
     MethodRun r = runner_->run(*method, spec.params);
     Point p;
@@ -597,26 +598,89 @@ Measured measureJob(Runner& runner, const Job& job, const MethodRegistry& regist
   return m;
 }
 
-// Fills the equal-quality columns of a successful, measured row (not for the baseline's own rows).
-void addEqualQuality(ResultRow& row, const Measured& m, EqualQuality& eq, const RunPlan& plan) {
-  const MethodRun& r = m.run;
-  if (r.status != RunStatus::Success) return;
-  double ms = scatterMs(r);  // the row's scatter_ms
-  if (!m.measured || r.method == eq.baseline() || eq.baseline().empty()) return;
-  if (plan.equalQualityExact && !m.exactMeasured) return;
-  const double target = plan.equalQualityExact ? m.exactLsErr.relmse : m.lsErr.relmse;
-  row.set("eq_error_against", plan.equalQualityExact ? "exact" : "reference (" + plan.equalQualityNote + ")");
-  const Effects& effects = plan.effects;
+// The baselines a row is matched with: per sampling the matched step count, and the matched
+// baseline's scattering time per round, timed right after the row in each round.
+struct RowMatches {
+  struct Timed {
+    std::string sampling, spec;
+    EqualQuality::Match match;
+    std::vector<double> roundMs;
+  };
+  std::vector<Timed> baselines;
+};
+
+// The samplings the baseline is matched with: uniform (the papers'), and equiangular (the strong one)
+// for point and spot lights.
+std::vector<std::string> baselineSamplings(const Effects& effects) {
   std::vector<std::string> samplings = {"uniform"};
-  bool pointLike = effects.light == LightType::Point || effects.light == LightType::Spot;
-  if (pointLike) samplings.push_back("equiangular");
-  for (const std::string& sampling : samplings) {
-    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, target, ms);
-    if (!match.any) continue;
+  if (effects.light == LightType::Point || effects.light == LightType::Spot) samplings.push_back("equiangular");
+  return samplings;
+}
+
+// The error a row is matched on (see RunPlan::equalQualityExact); negative when it has none.
+double matchedError(const Measured& m, const RunPlan& plan) {
+  if (!m.measured || (plan.equalQualityExact && !m.exactMeasured)) return -1.0;
+  return plan.equalQualityExact ? m.exactLsErr.relmse : m.lsErr.relmse;
+}
+
+// Bisects the baseline to a successful row's error (first round); none for the baseline's own rows.
+RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
+  RowMatches out;
+  const MethodRun& r = m.run;
+  double target = matchedError(m, plan);
+  if (r.status != RunStatus::Success || target < 0.0 || r.method == eq.baseline() || eq.baseline().empty()) return out;
+  for (const std::string& sampling : baselineSamplings(plan.effects)) {
+    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, target, scatterMs(r));
+    if (match.any) out.baselines.push_back({sampling, eq.spec(sampling, r.shadowMapSize, match.steps), match, {}});
+  }
+  return out;
+}
+
+// Times each reached baseline of a row once more, as the rows are timed: the speedups are ratios
+// of figures measured side by side in every round (a baseline never reached keeps the bisection's
+// time, a lower bound).
+void timeMatchedBaselines(RowMatches& matches, Runner& runner, const MethodRegistry& registry,
+                          const gl::Limits& limits, Progress& progress) {
+  for (auto& b : matches.baselines) {
+    if (!b.match.reached) continue;
+    progress.note("equal quality: timing " + b.spec);
+    ResolvedSpec spec = resolveSpec(b.spec, limits, registry);
+    auto method = createMethod(registry, spec.method);
+    MethodRun run = runner.run(*method, spec.params);
+    b.roundMs.push_back(run.status == RunStatus::Success ? scatterMs(run) : b.match.ms);
+  }
+}
+
+// Fills the equal-quality columns of a successful row from its matches and the rounds' times.
+void addEqualQuality(ResultRow& row, const Measured& m, const RowMatches& matches, EqualQuality& eq,
+                     const RunPlan& plan, const std::vector<double>& rowRoundMs) {
+  if (matches.baselines.empty()) return;
+  const MethodRun& r = m.run;
+  const double ms = scatterMs(r);  // the row's scatter_ms (the median over the rounds)
+  row.set("eq_error_against", plan.equalQualityExact ? "exact" : "reference (" + plan.equalQualityNote + ")");
+  for (const auto& b : matches.baselines) {
+    const std::string& sampling = b.sampling;
+    // The equal-time error at the row's final time (the bisection's points are memoised).
+    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, matchedError(m, plan), ms);
+    double baseMs = b.match.ms, speedup = ms > 0.0 ? b.match.ms / ms : 0.0;
+    if (!b.roundMs.empty()) {
+      std::vector<double> ratios;
+      for (size_t k = 0; k < std::min(b.roundMs.size(), rowRoundMs.size()); ++k)
+        ratios.push_back(rowRoundMs[k] > 0.0 ? b.roundMs[k] / rowRoundMs[k] : 0.0);
+      baseMs = medianOf(b.roundMs);
+      speedup = ratios.empty() ? speedup : medianOf(ratios);
+      row.set("eq_" + sampling + "_round_min_ms", *std::min_element(b.roundMs.begin(), b.roundMs.end()));
+      row.set("eq_" + sampling + "_round_max_ms", *std::max_element(b.roundMs.begin(), b.roundMs.end()));
+      if (!ratios.empty()) {
+        row.set("speedup_eq_" + sampling + "_round_min", *std::min_element(ratios.begin(), ratios.end()));
+        row.set("speedup_eq_" + sampling + "_round_max", *std::max_element(ratios.begin(), ratios.end()));
+      }
+    }
     // A baseline that never reaches the row's error within kMaxSteps gives a lower bound: ">=".
-    row.set("eq_" + sampling + "_steps", (match.reached ? "" : ">=") + std::to_string(match.steps));
-    row.set("eq_" + sampling + "_ms", (match.reached ? "" : ">=") + num(match.ms));
-    row.set("speedup_eq_" + sampling, (match.reached ? "" : ">=") + num(ms > 0.0 ? match.ms / ms : 0.0));
+    const std::string bound = b.match.reached ? "" : ">=";
+    row.set("eq_" + sampling + "_steps", bound + std::to_string(b.match.steps));
+    row.set("eq_" + sampling + "_ms", bound + num(baseMs));
+    row.set("speedup_eq_" + sampling, bound + num(speedup));
     row.set("equal_time_ls_rmse_" + sampling, match.equalTimeLsRmse);
   }
 }
@@ -712,7 +776,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   RunOptions laterOptions = options;
   laterOptions.workCounters = false;
   std::unique_ptr<Runner> laterRunner;
-  if (req.rounds > 1) laterRunner = std::make_unique<Runner>(plan.scene, limits, laterOptions);
+  if (req.rounds > 1 || req.equalQuality) laterRunner = std::make_unique<Runner>(plan.scene, limits, laterOptions);
   std::unique_ptr<EqualQuality> equalQuality;
   if (req.equalQuality && plan.haveReference && plan.effects.scattering) {
     equalQuality = std::make_unique<EqualQuality>(
@@ -726,6 +790,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr", "ssim");
   std::vector<Measured> firsts(plan.jobs.size());
   std::vector<RoundTimings> timings(plan.jobs.size());
+  std::vector<RowMatches> matches(plan.jobs.size());
   for (int round = 0; round < req.rounds; ++round)
     for (size_t j = 0; j < plan.jobs.size(); ++j) {
       const Job& job = plan.jobs[j];
@@ -742,11 +807,13 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
         first.run.inscatter = Image();  // the errors are measured: the images are not kept
         first.run.final = Image();
         if (first.run.status == RunStatus::Success) timings[j].add(first.run);
+        if (equalQuality) matches[j] = matchRow(first, *equalQuality, plan);
       } else {
         auto method = createMethod(registry, job.method);
         MethodRun later = laterRunner->run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
         if (later.status == RunStatus::Success) timings[j].add(later);
       }
+      if (equalQuality) timeMatchedBaselines(matches[j], *laterRunner, registry, limits, progress);
       Measured m = first;
       const RoundTimings& t = timings[j];
       if (m.run.status == RunStatus::Success && t.count() > 1) {
@@ -764,7 +831,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
         row.set("scatter_round_max_ms", *std::max_element(t.scatter.begin(), t.scatter.end()));
       }
       bool lastRound = round == req.rounds - 1;
-      if (equalQuality && lastRound) addEqualQuality(row, m, *equalQuality, plan);
+      if (equalQuality && lastRound) addEqualQuality(row, m, matches[j], *equalQuality, plan, t.scatter);
       files.addRows(row, r, plan.scene.name, timer, info.glRenderer, t);
       progress.finished(jobSummary(m));
       if (!lastRound && r.status == RunStatus::Success) continue;  // printed once, after the last round

@@ -39,9 +39,11 @@ const std::vector<std::string>& runsColumns() {
       "frame_round_max_ms", "rmse", "relmse", "psnr",
       "ssim", "max_abs", "max_abs_x", "max_abs_y", "ls_rmse", "ls_relmse", "ls_psnr", "ls_ssim", "ls_max_abs",
       "nonfinite_pixels", "method_stats", "scatter_ms", "scatter_round_min_ms", "scatter_round_max_ms",
-      "eq_error_against", "eq_uniform_steps", "eq_uniform_ms", "speedup_eq_uniform",
-      "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "speedup_eq_equiangular",
-      "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
+      "eq_error_against", "eq_uniform_steps", "eq_uniform_ms", "eq_uniform_round_min_ms", "eq_uniform_round_max_ms",
+      "speedup_eq_uniform", "speedup_eq_uniform_round_min", "speedup_eq_uniform_round_max",
+      "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "eq_equiangular_round_min_ms",
+      "eq_equiangular_round_max_ms", "speedup_eq_equiangular", "speedup_eq_equiangular_round_min",
+      "speedup_eq_equiangular_round_max", "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
       "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
   return columns;
 }

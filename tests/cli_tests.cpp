@@ -289,8 +289,8 @@ namespace {
 TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
   std::string dir = makeTempDir("equal-quality");
   CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--method", "minmax", "--size", "48x36", "--frames",
-                                "1", "--warmup", "0", "--no-images", "--equal-quality", "--out", dir + "/out", "--cache",
-                                dir + "/cache"});
+                                "1", "--warmup", "0", "--no-images", "--equal-quality", "--rounds", "2", "--out",
+                                dir + "/out", "--cache", dir + "/cache"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   auto rows = CsvTable::parse(readFile(dir + "/out/runs.csv"));
   ASSERT_GT(rows.size(), 1u);
@@ -299,6 +299,7 @@ TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
     EXPECT_NE(it, rows[0].end()) << name;
     return size_t(it - rows[0].begin());
   };
+  int timedBaselines = 0;
   for (size_t i = 1; i < rows.size(); ++i) {
     const auto& row = rows[i];
     ASSERT_EQ(row[col("status")], "Success") << row[col("reason")];
@@ -315,8 +316,26 @@ TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
       std::string speedup = row[col(std::string("speedup_eq_") + baseline)];
       EXPECT_GT(std::stod(speedup.rfind(">=", 0) == 0 ? speedup.substr(2) : speedup), 0.0);
       EXPECT_FALSE(row[col(std::string("equal_time_ls_rmse_") + baseline)].empty());
+      if (steps.rfind(">=", 0) == 0) continue;  // a bound keeps the bisection's time
+      // A reached baseline is timed beside the row in each round: its median lies in its range, and
+      // the speedup (the median of the rounds' ratios) in the ratios' range.
+      std::string prefix = std::string("eq_") + baseline;
+      double ms = std::stod(row[col(prefix + "_ms")]);
+      EXPECT_LE(std::stod(row[col(prefix + "_round_min_ms")]), ms + 1e-9);
+      EXPECT_LE(ms, std::stod(row[col(prefix + "_round_max_ms")]) + 1e-9);
+      std::string ratio = std::string("speedup_eq_") + baseline;
+      EXPECT_LE(std::stod(row[col(ratio + "_round_min")]), std::stod(speedup) + 1e-9);
+      EXPECT_LE(std::stod(speedup), std::stod(row[col(ratio + "_round_max")]) + 1e-9);
+      ++timedBaselines;
     }
   }
+  // Each reached baseline was timed once per round, right after its row.
+  size_t notes = 0;
+  for (size_t at = r.err.find("equal quality: timing raymarch"); at != std::string::npos;
+       at = r.err.find("equal quality: timing raymarch", at + 1))
+    ++notes;
+  EXPECT_GT(timedBaselines, 0);
+  EXPECT_EQ(notes, size_t(2 * timedBaselines)) << r.err;
   // Without the flag the columns stay empty (the bisection costs baseline runs).
   CommandResult plain = runVshadow({"run", "--scene", "spheres", "--method", "minmax", "--size", "32x24", "--frames", "1",
                                     "--warmup", "0", "--no-images", "--out", dir + "/plain", "--cache", dir + "/cache"});
