@@ -9,14 +9,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <thread>
 
 #include "frame.hpp"
-#include "results.hpp"
+#include "image_cache.hpp"
 #include "scenes/content_hash.hpp"
-#include "scenes/json_reader.hpp"
 
 #ifndef VS_GROUND_TRUTH_SOURCE
 #define VS_GROUND_TRUTH_SOURCE "unknown"
@@ -446,7 +444,6 @@ GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& opti
 
 GroundTruth obtainGroundTruth(const Scene& scene, const GroundTruthOptions& options, const std::string& cacheDir,
                               const std::function<void(int, int)>& progress) {
-  namespace fs = std::filesystem;
   std::string keyText = "vshadow-ground-truth-v1\n" + scene.contentHash + "\n" + std::to_string(options.width) + "x" +
                         std::to_string(options.height) + "\nsteps=" + std::to_string(options.steps) +
                         "\nlight_samples=" + std::to_string(options.lightSamples) +
@@ -454,46 +451,29 @@ GroundTruth obtainGroundTruth(const Scene& scene, const GroundTruthOptions& opti
   ContentHasher hasher;
   hasher.addBlock(keyText);
   const std::string key = hasher.hex();
-  const fs::path base = fs::path(cacheDir) / (scene.name + "-exact-" + key);
-  const std::string lsPath = base.string() + ".ls.exr", finalPath = base.string() + ".final.exr";
-  const std::string jsonPath = base.string() + ".json";
-  if (fs::exists(lsPath) && fs::exists(finalPath) && fs::exists(jsonPath)) {
-    try {
-      GroundTruth cached;
-      cached.inscatter = readImage(lsPath);
-      cached.final = readImage(finalPath);
-      std::string text, error;
-      if (!readFile(jsonPath, text, error)) throw std::runtime_error(error);
-      nlohmann::json meta = nlohmann::json::parse(text);
-      if (meta.at("key_text").get<std::string>() == keyText && cached.inscatter.width == options.width &&
-          cached.inscatter.height == options.height && cached.final.width == options.width &&
-          cached.final.height == options.height) {
-        cached.computeMs = meta.at("compute_ms").get<double>();
-        cached.fromCache = true;
-        cached.cacheKey = key;
-        cached.cachePath = base.string();
-        return cached;
-      }
-    } catch (const std::exception&) {
-      // An unreadable or foreign cache entry is recomputed below.
-    }
+  const std::string base = (std::filesystem::path(cacheDir) / (scene.name + "-exact-" + key)).string();
+  if (auto cached = readCachedImages(base, keyText, options.width, options.height)) {
+    GroundTruth truth;
+    truth.inscatter = std::move(cached->inscatter);
+    truth.final = std::move(cached->final);
+    truth.computeMs = cached->meta.value("compute_ms", 0.0);
+    truth.fromCache = true;
+    truth.cacheKey = key;
+    truth.cachePath = base;
+    return truth;
   }
   GroundTruth truth = renderGroundTruth(scene, options, progress);
   truth.cacheKey = key;
-  truth.cachePath = base.string();
-  try {
-    fs::create_directories(cacheDir);
-    // The images first and the JSON last: an entry without its JSON is never read.
-    writeExr(lsPath, truth.inscatter);
-    writeExr(finalPath, truth.final);
-    nlohmann::json meta = {{"key_text", keyText},          {"scene", scene.name},    {"scene_source", scene.source},
-                           {"width", options.width},       {"height", options.height}, {"steps", options.steps},
-                           {"light_samples", options.lightSamples}, {"seed", options.seed},
-                           {"compute_ms", truth.computeMs}};
-    writeFileAtomic(jsonPath, meta.dump(2) + "\n");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "warning: ground truth not cached (%s)\n", e.what());
-  }
+  truth.cachePath = base;
+  writeCachedImages(base, keyText, truth.inscatter, truth.final,
+                    {{"scene", scene.name},
+                     {"scene_source", scene.source},
+                     {"width", options.width},
+                     {"height", options.height},
+                     {"steps", options.steps},
+                     {"light_samples", options.lightSamples},
+                     {"seed", options.seed},
+                     {"compute_ms", truth.computeMs}});
   return truth;
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "image_cache.hpp"
 #include "results.hpp"
 #include "scenes/content_hash.hpp"
 #include "vpl.hpp"
@@ -313,22 +314,13 @@ Reference obtainReference(const Scene& scene, const gl::Limits& limits, const Ru
   ContentHasher hasher;
   hasher.addBlock(keyText);
   ref.cacheKey = hasher.hex();
-  fs::path base = fs::path(cacheDir) / (scene.name + "-" + ref.cacheKey);
-  ref.cachePath = base.string();
-  std::string lsPath = base.string() + ".ls.exr", finalPath = base.string() + ".final.exr";
-  std::string jsonPath = base.string() + ".json";
-  if (fs::exists(lsPath) && fs::exists(finalPath) && fs::exists(jsonPath)) {
-    try {
-      ref.inscatter = readImage(lsPath);
-      ref.final = readImage(finalPath);
-      if (ref.inscatter.width == options.width && ref.inscatter.height == options.height &&
-          ref.final.width == options.width && ref.final.height == options.height) {
-        ref.fromCache = true;
-        return ref;
-      }
-    } catch (const std::exception&) {
-      // An unreadable cache entry is recomputed below.
-    }
+  const std::string base = (fs::path(cacheDir) / (scene.name + "-" + ref.cacheKey)).string();
+  ref.cachePath = base;
+  if (auto cached = readCachedImages(base, keyText, options.width, options.height)) {
+    ref.inscatter = std::move(cached->inscatter);
+    ref.final = std::move(cached->final);
+    ref.fromCache = true;
+    return ref;
   }
   auto start = std::chrono::steady_clock::now();
   auto method = createMethod(registry, resolved.method);
@@ -343,17 +335,15 @@ Reference obtainReference(const Scene& scene, const gl::Limits& limits, const Ru
   ref.inscatter = std::move(run.inscatter);
   ref.final = std::move(run.final);
   ref.computeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  try {
-    fs::create_directories(cacheDir);
-    writeExr(lsPath, ref.inscatter);
-    writeExr(finalPath, ref.final);
-    nlohmann::json meta = {{"key_text", keyText},   {"scene", scene.name}, {"scene_source", scene.source},
-                           {"method", ref.method},  {"params", ref.params}, {"width", options.width},
-                           {"height", options.height}, {"seed", options.seed}, {"compute_ms", ref.computeMs}};
-    writeFileAtomic(jsonPath, meta.dump(2) + "\n");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "warning: reference not cached (%s)\n", e.what());
-  }
+  writeCachedImages(base, keyText, ref.inscatter, ref.final,
+                    {{"scene", scene.name},
+                     {"scene_source", scene.source},
+                     {"method", ref.method},
+                     {"params", ref.params},
+                     {"width", options.width},
+                     {"height", options.height},
+                     {"seed", options.seed},
+                     {"compute_ms", ref.computeMs}});
   return ref;
 }
 

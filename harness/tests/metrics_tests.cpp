@@ -1,4 +1,4 @@
-// Tests for harness/metrics and harness/image.
+// Tests for harness/metrics, harness/image and harness/image_cache.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -7,11 +7,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <random>
 #include <stdexcept>
 
 #include "harness/image.hpp"
+#include "harness/image_cache.hpp"
 #include "harness/metrics.hpp"
 
 namespace fs = std::filesystem;
@@ -298,4 +300,23 @@ TEST_F(TempDirTest, FailedWritesThrowAndLeaveNothing) {
 
 TEST_F(TempDirTest, ReadingAMissingFileThrows) {
   EXPECT_THROW(vs::readImage((dir / "missing.exr").string()), std::runtime_error);
+}
+
+// The image cache reads back what it wrote, and only for the same key and size: another key (a hash
+// collision), another size, a missing or broken JSON are misses, never someone else's images.
+TEST_F(TempDirTest, ImageCacheHitsOnlyItsOwnKeyAndSize) {
+  const Image ls = texturedImage(8, 6), final = constantImage(8, 6, 0.5f, 0.25f, 1.0f);
+  const std::string base = (dir / "cache" / "scene-0123").string();
+  vs::writeCachedImages(base, "key one", ls, final, {{"compute_ms", 12.5}});
+  auto hit = vs::readCachedImages(base, "key one", 8, 6);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(vs::compareImages(hit->inscatter, ls).maxAbs, 0.0);
+  EXPECT_EQ(vs::compareImages(hit->final, final).maxAbs, 0.0);
+  EXPECT_EQ(hit->meta.value("compute_ms", 0.0), 12.5);
+  EXPECT_FALSE(vs::readCachedImages(base, "key two", 8, 6).has_value());
+  EXPECT_FALSE(vs::readCachedImages(base, "key one", 8, 5).has_value());
+  std::ofstream(base + ".json") << "{ not json";
+  EXPECT_FALSE(vs::readCachedImages(base, "key one", 8, 6).has_value());
+  fs::remove(base + ".json");
+  EXPECT_FALSE(vs::readCachedImages(base, "key one", 8, 6).has_value());
 }
