@@ -310,11 +310,15 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
       gl::checkFramebuffer(id, "deep shadow map");
     }
 
+  // One map for grey volumes needs no per-channel power (llvmpipe would pay a log and three exps a lookup).
+  const glm::vec3 ratio = dsm::channelRatios(context.scene);
+  const bool grey = channels_ == 1 && ratio.x == 1.0f && ratio.y == 1.0f && ratio.z == 1.0f;
   std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
                         (hardwareFilter ? "1" : "0") + "\n#define DSM_SEGMENTS " + (exponential ? "1" : "0") +
                         "\n#define DSM_RELATIVE " + (relative ? "1" : "0") + "\n#define DSM_FACES " + std::to_string(views_.faces) +
-                        "\n#define DSM_CHANNELS " + std::to_string(channels_) + "\n";
+                        "\n#define DSM_CHANNELS " + std::to_string(channels_) +
+                        "\n#define DSM_GREY " + (grey ? "1" : "0") + "\n";
   generateProgram_ = gl::buildFullscreen("methods/dsm/shaders/generate.frag",
                                          defines + "#define GEN_STEPS " + std::to_string(genSteps_) +
                                              "\n#define GEN_STEP_VOXELS " + std::to_string(genStep_) +

@@ -150,26 +150,35 @@ float texelOpacity(ivec2 texel, vec2 uv, int plane, float z, float entry, float 
 }
 #endif
 
+// Opacity at depth z of one texel's visibility function, or (finalOnly) its final opacity alone.
+float texelValue(ivec2 texel, vec2 uv, int plane, float z, float entry, float exit, bool finalOnly) {
+  if (finalOnly) return dsmLayer(texel, uv, plane, DSM_KNOTS / 4)[DSM_KNOTS % 4];
+  return texelOpacity(texel, uv, plane, z, entry, exit);
+}
+
 // Opacity at depth z of one map (plane), bilinear between the four nearest texels' visibility
 // functions, or from one hardware-filtered lookup (DSM_FILTER 1).
-float mapOpacity(vec2 st, float size, int plane, float z, float entry, float exit) {
+float mapOpacity(vec2 st, float size, int plane, float z, float entry, float exit, bool finalOnly) {
 #if DSM_FILTER == 1
-  return texelOpacity(ivec2(0), (st + 0.5) / size, plane, z, entry, exit);
+  return texelValue(ivec2(0), (st + 0.5) / size, plane, z, entry, exit, finalOnly);
 #else
   vec2 f = fract(st);
   ivec2 t0 = clamp(ivec2(floor(st)), ivec2(0), ivec2(int(size) - 1));
   ivec2 t1 = min(t0 + 1, ivec2(int(size) - 1));
-  float a00 = texelOpacity(t0, vec2(0.0), plane, z, entry, exit);
-  float a10 = texelOpacity(ivec2(t1.x, t0.y), vec2(0.0), plane, z, entry, exit);
-  float a01 = texelOpacity(ivec2(t0.x, t1.y), vec2(0.0), plane, z, entry, exit);
-  float a11 = texelOpacity(t1, vec2(0.0), plane, z, entry, exit);
+  float a00 = texelValue(t0, vec2(0.0), plane, z, entry, exit, finalOnly);
+  float a10 = texelValue(ivec2(t1.x, t0.y), vec2(0.0), plane, z, entry, exit, finalOnly);
+  float a01 = texelValue(ivec2(t0.x, t1.y), vec2(0.0), plane, z, entry, exit, finalOnly);
+  float a11 = texelValue(t1, vec2(0.0), plane, z, entry, exit, finalOnly);
   return mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
 #endif
 }
 
 // Transmittance (rgb) of the volume data from the light to x: per colour channel from its own map
 // (DSM_CHANNELS 3), or the mean extinction's transmittance T raised to each channel's ratio.
-vec3 dsmTransmittance(vec3 x) {
+// `outside` (always a constant, so the compiler keeps one side): x lies outside the only volume
+// box, so along its light ray it is in front of the volume (1) or behind it (the final opacity),
+// and no knots are evaluated: with 8 or 16 knots that lookup is most of a haze sample's cost.
+vec3 dsmTransmittanceAt(vec3 x, bool outside) {
   int face = dsmFace(x);
   vec4 p = faceViewProj(face) * vec4(x, 1.0);
   if (p.w <= 1e-20) return vec3(1.0);
@@ -183,13 +192,24 @@ vec3 dsmTransmittance(vec3 x) {
   float z = lightDepth(x);
   float base = lightType() == LIGHT_DIRECTIONAL ? dot(origin, dir) : 0.0;
   float entry = base + span.x, exit = base + span.y;
+  if (outside && z <= 0.5 * (entry + exit)) return vec3(1.0);
 #if DSM_CHANNELS == 3
   int plane = face * 3;
-  vec3 a = vec3(mapOpacity(st, size, plane, z, entry, exit), mapOpacity(st, size, plane + 1, z, entry, exit),
-                mapOpacity(st, size, plane + 2, z, entry, exit));
+  vec3 a = vec3(mapOpacity(st, size, plane, z, entry, exit, outside),
+                mapOpacity(st, size, plane + 1, z, entry, exit, outside),
+                mapOpacity(st, size, plane + 2, z, entry, exit, outside));
   return clamp(1.0 - a, 0.0, 1.0);
 #else
-  float t = clamp(1.0 - mapOpacity(st, size, face, z, entry, exit), 0.0, 1.0);
+  float t = clamp(1.0 - mapOpacity(st, size, face, z, entry, exit, outside), 0.0, 1.0);
+#if DSM_GREY
+  return vec3(t);  // volumes of grey extinction: every ratio is 1
+#else
   return exp(dsm.channelRatio.rgb * log(max(t, 1e-30)));
 #endif
+#endif
 }
+
+vec3 dsmTransmittance(vec3 x) { return dsmTransmittanceAt(x, false); }
+
+// A point outside every volume box (the camera ray's haze samples).
+vec3 dsmHazeTransmittance(vec3 x) { return dsmTransmittanceAt(x, VS_VOLUMES == 1); }

@@ -85,7 +85,7 @@ void main() {
     }
     vec3 tau = sigmaT() * s + (s > b ? tauVolume : vec3(0.0));
     vec3 x = eye + dir * s;
-    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, vec3(sigmaS()), dsmTransmittance(x));
+    if (weight > 0.0) sum += weight * exp(-tau) * inscatterAt(x, dir, vec3(sigmaS()), dsmHazeTransmittance(x));
   }
   vec3 L = all(lessThan(abs(sum), vec3(3.0e38))) ? sum : vec3(0.0);
   outInscatter = vec4(L, 1.0);
