@@ -345,7 +345,7 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   plan.haveExact = req.exact || plan.exactReference;
   plan.haveReference = !req.noReference;
   if (plan.haveExact && !groundTruthUnsupported(plan.scene).empty()) throw UsageError(groundTruthUnsupported(plan.scene));
-  if (req.equalQuality && plan.haveReference) {
+  if (req.equalQuality && plan.haveReference && plan.effects.scattering) {
     plan.equalQualityNote = groundTruthUnsupported(plan.scene);
     plan.equalQualityExact = plan.equalQualityNote.empty();
     plan.haveExact = plan.haveExact || plan.equalQualityExact;
