@@ -217,7 +217,7 @@ class EqualQuality {
   };
   struct Match {
     int steps = 0;
-    double ms = 0, equalTimeLsRmse = 0;
+    double ms = 0;
     bool reached = false, any = false;
   };
   static constexpr int kMaxSteps = 4096;
@@ -262,8 +262,8 @@ class EqualQuality {
   }
 
   // Smallest step count whose L_s relMSE is at most `target` (bisection on [1, kMaxSteps], the error
-  // taken as non-increasing in the step count), and the baseline's error at `rowMs`.
-  Match match(const std::string& sampling, int sm, double target, double rowMs) {
+  // taken as non-increasing in the step count).
+  Match match(const std::string& sampling, int sm, double target) {
     Match m;
     Point top = at(sampling, sm, kMaxSteps);
     if (!top.ok) return m;
@@ -285,19 +285,20 @@ class EqualQuality {
       m.ms = at(sampling, sm, hi).scatterMs;
       m.reached = true;
     }
-    // Equal time: the largest step count that runs within rowMs (time taken as increasing).
-    int lo = 1, hi = kMaxSteps;
-    if (at(sampling, sm, 1).scatterMs > rowMs) {
-      m.equalTimeLsRmse = at(sampling, sm, 1).lsRmse;
-    } else {
-      while (hi - lo > 1) {
-        int mid = std::clamp(int(std::lround(std::sqrt(double(lo) * double(hi)))), lo + 1, hi - 1);
-        if (at(sampling, sm, mid).scatterMs <= rowMs) lo = mid;
-        else hi = mid;
-      }
-      m.equalTimeLsRmse = at(sampling, sm, at(sampling, sm, hi).scatterMs <= rowMs ? hi : lo).lsRmse;
-    }
     return m;
+  }
+
+  // The baseline's L_s RMSE at the largest step count that runs within `rowMs` (time taken as
+  // increasing in the step count).
+  double equalTimeLsRmse(const std::string& sampling, int sm, double rowMs) {
+    if (at(sampling, sm, 1).scatterMs > rowMs) return at(sampling, sm, 1).lsRmse;
+    int lo = 1, hi = kMaxSteps;
+    while (hi - lo > 1) {
+      int mid = std::clamp(int(std::lround(std::sqrt(double(lo) * double(hi)))), lo + 1, hi - 1);
+      if (at(sampling, sm, mid).scatterMs <= rowMs) lo = mid;
+      else hi = mid;
+    }
+    return at(sampling, sm, at(sampling, sm, hi).scatterMs <= rowMs ? hi : lo).lsRmse;
   }
 
  private:
@@ -630,7 +631,7 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
   double target = matchedError(m, plan);
   if (r.status != RunStatus::Success || target < 0.0 || r.method == eq.baseline() || eq.baseline().empty()) return out;
   for (const std::string& sampling : baselineSamplings(plan.effects)) {
-    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, target, scatterMs(r));
+    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, target);
     if (match.any) out.baselines.push_back({sampling, eq.spec(sampling, r.shadowMapSize, match.steps), match, {}});
   }
   return out;
@@ -660,8 +661,6 @@ void addEqualQuality(ResultRow& row, const Measured& m, const RowMatches& matche
   row.set("eq_error_against", plan.equalQualityExact ? "exact" : "reference (" + plan.equalQualityNote + ")");
   for (const auto& b : matches.baselines) {
     const std::string& sampling = b.sampling;
-    // The equal-time error at the row's final time (the bisection's points are memoised).
-    EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, matchedError(m, plan), ms);
     double baseMs = b.match.ms, speedup = ms > 0.0 ? b.match.ms / ms : 0.0;
     if (!b.roundMs.empty()) {
       std::vector<double> ratios;
@@ -681,7 +680,8 @@ void addEqualQuality(ResultRow& row, const Measured& m, const RowMatches& matche
     row.set("eq_" + sampling + "_steps", bound + std::to_string(b.match.steps));
     row.set("eq_" + sampling + "_ms", bound + num(baseMs));
     row.set("speedup_eq_" + sampling, bound + num(speedup));
-    row.set("equal_time_ls_rmse_" + sampling, match.equalTimeLsRmse);
+    // At the row's final time, the median over the rounds.
+    row.set("equal_time_ls_rmse_" + sampling, eq.equalTimeLsRmse(sampling, r.shadowMapSize, ms));
   }
 }
 
