@@ -286,7 +286,8 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
     uniforms.thresholds[k / 4][k % 4] = t[size_t(k)];
     uniforms.knotTaus[k / 4][k % 4] = -std::log(std::max(1.0f - t[size_t(k)], 1e-30f));
   }
-  uniforms.channelRatio = glm::vec4(dsm::channelRatios(context.scene), 0.0f);
+  const glm::vec3 ratio = dsm::channelRatios(context.scene);
+  uniforms.channelRatio = glm::vec4(ratio, 0.0f);
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms, 0);
 
   GLuint id = 0;
@@ -311,7 +312,6 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
     }
 
   // One map for grey volumes needs no per-channel power (llvmpipe would pay a log and three exps a lookup).
-  const glm::vec3 ratio = dsm::channelRatios(context.scene);
   const bool grey = channels_ == 1 && ratio.x == 1.0f && ratio.y == 1.0f && ratio.z == 1.0f;
   std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
