@@ -43,8 +43,8 @@ const std::vector<std::string>& runsColumns() {
       "speedup_eq_uniform", "speedup_eq_uniform_round_min", "speedup_eq_uniform_round_max",
       "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "eq_equiangular_round_min_ms",
       "eq_equiangular_round_max_ms", "speedup_eq_equiangular", "speedup_eq_equiangular_round_min",
-      "speedup_eq_equiangular_round_max", "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr", "exact_ssim", "exact_ls_rmse",
-      "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
+      "speedup_eq_equiangular_round_max", "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr",
+      "exact_ssim", "exact_ls_rmse", "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
   return columns;
 }
 
