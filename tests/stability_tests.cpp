@@ -9,6 +9,7 @@
 #include "hard_cases.hpp"
 #include "stress.hpp"
 #include "harness/metrics.hpp"
+#include "harness/results.hpp"
 
 namespace vs::testing {
 namespace {
@@ -128,6 +129,22 @@ TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
     EXPECT_EQ(merged[m].failures, whole[m].failures) << methods[m];
     EXPECT_EQ(merged[m].worstIndex, whole[m].worstIndex) << methods[m];
     EXPECT_DOUBLE_EQ(merged[m].worstRelmse, whole[m].worstRelmse) << methods[m];
+  }
+}
+
+TEST_F(StressShardTest, PrintedConfigurationRendersAsTheStressedOne) {
+  // vshadow_stress --print-config N: the report names configurations; their scene files, loaded
+  // as a user would (vshadow run --scene), must render what the stress rendered.
+  std::string dir = makeTempDir("stress-config");
+  for (uint32_t index : {3u, 422u}) {
+    std::string path = dir + "/config" + std::to_string(index) + ".json";
+    writeFileAtomic(path, randomStressSceneJson(1, index));
+    Scene loaded = loadScene(path), stressed = randomStressScene(1, index);
+    EXPECT_EQ(loaded.contentHash, stressed.contentHash) << index;
+    MethodRun a = renderScene(loaded, "raymarch:steps=16", 16, 12), b = renderScene(stressed, "raymarch:steps=16", 16, 12);
+    ASSERT_EQ(a.status, RunStatus::Success) << a.reason;
+    ASSERT_EQ(b.status, RunStatus::Success) << b.reason;
+    EXPECT_EQ(a.inscatter.rgb, b.inscatter.rgb) << index;
   }
 }
 

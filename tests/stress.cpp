@@ -23,7 +23,7 @@ struct Random {
 };
 }  // namespace
 
-Scene randomStressScene(uint32_t seed, uint32_t index) {
+std::string randomStressSceneJson(uint32_t seed, uint32_t index) {
   Random r{std::mt19937_64((uint64_t(seed) << 32) ^ (index * 0x9E3779B97F4A7C15ull))};
   json scene = {
       {"geometry",
@@ -91,7 +91,12 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
       scene["volumes"][0]["sigma_a"] = json::array({a * r.uniform(0.05, 1.0), a, a * r.uniform(1.0, 4.0)});
     }
   }
-  return parseSceneJson(scene.dump(), ".", "stress config " + std::to_string(seed) + "/" + std::to_string(index));
+  return scene.dump(2);
+}
+
+Scene randomStressScene(uint32_t seed, uint32_t index) {
+  return parseSceneJson(randomStressSceneJson(seed, index), ".",
+                        "stress config " + std::to_string(seed) + "/" + std::to_string(index));
 }
 
 void StressSummary::merge(const StressSummary& other) {

@@ -12,6 +12,8 @@ namespace vs::testing {
 
 // Configuration `index` of the sequence for `seed`: the same pair always gives the same scene.
 Scene randomStressScene(uint32_t seed, uint32_t index);
+// Its scene file (JSON), for `vshadow run --scene`: the configuration a report names, reproduced.
+std::string randomStressSceneJson(uint32_t seed, uint32_t index);
 
 struct StressSummary {
   std::string method;

@@ -2,6 +2,7 @@
 //   vshadow_stress [--configs 10000] [--seed 1] [--method NAME ...] [--report FILE.md]
 //   On a cluster: vshadow_stress --shard K/N --partial K.json on every node, then
 //   vshadow_stress --merge 0.json ... --report FILE.md
+//   vshadow_stress --print-config N [--seed S] > config.json: configuration N as a scene file
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -151,9 +152,16 @@ int main(int argc, char** argv) {
   app.add_option("--report", report, "write the stability report (Markdown) to this file");
   app.add_option("--shard", shardText, "K/N: run only the configurations whose index modulo N is K (write it with --partial)");
   app.add_option("--partial", partial, "write this run's summaries to FILE.json, to be merged with --merge");
+  int64_t printConfig = -1;
+  app.add_option("--print-config", printConfig, "print configuration N of the seed's sequence as a scene file and exit")
+      ->check(CLI::Range(int64_t(0), int64_t(UINT32_MAX)));
   app.add_option("--merge", mergeFiles, "merge the --partial files of every shard instead of running (then --report)")
       ->expected(1, -1);
   CLI11_PARSE(app, argc, argv);
+  if (printConfig >= 0) {
+    std::printf("%s\n", randomStressSceneJson(options.seed, uint32_t(printConfig)).c_str());
+    return 0;
+  }
   try {
     if (!shardText.empty()) {
       size_t slash = shardText.find('/');
@@ -233,7 +241,9 @@ int main(int argc, char** argv) {
      << options.width << "x" << options.height
      << " (random camera, light type and placement, medium, phase, volume data in ~30 %; the light sits on the eye in ~3 % of them)"
      << (options.shards > 1 ? ", run in " + std::to_string(options.shards) + " shards" : std::string()) << ".\n"
-     << "Worst error: L_s relMSE against the ray-marched reference, singular configurations excluded.\n\n"
+     << "Worst error: L_s relMSE against the ray-marched reference, singular configurations excluded; "
+        "`vshadow_stress --print-config N --seed "
+     << options.seed << " > config.json` writes configuration N as a scene for `vshadow run --scene config.json`.\n\n"
      << "| method | configurations | tried | unsupported | failures | NaN | negative | worst L_s relMSE (config) |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries)
