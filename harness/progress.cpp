@@ -6,7 +6,8 @@
 
 namespace vs {
 
-Progress::Progress(int totalItems) : tty_(::isatty(2) != 0), total_(totalItems) {}
+Progress::Progress(int totalItems, std::chrono::seconds logInterval)
+    : tty_(::isatty(2) != 0), logInterval_(logInterval), lastLog_(std::chrono::steady_clock::now()), total_(totalItems) {}
 
 Progress::~Progress() {
   if (tty_) std::fprintf(stderr, "\r\033[K");
@@ -16,13 +17,19 @@ void Progress::item(int index, const std::string& label) {
   index_ = index;
   label_ = label;
   framesDone_ = framesTotal_ = 0;
+  lastLog_ = std::chrono::steady_clock::now();
   draw();
 }
 
 void Progress::frames(int done, int total) {
   framesDone_ = done;
   framesTotal_ = total;
-  draw();
+  if (tty_) return draw();
+  auto now = std::chrono::steady_clock::now();
+  if (now - lastLog_ < logInterval_ || done >= total) return;
+  lastLog_ = now;
+  std::fprintf(stderr, "[%d/%d] %s: %d/%d\n", index_ + 1, total_, label_.c_str(), done, total);
+  std::fflush(stderr);
 }
 
 void Progress::draw() {

@@ -7,6 +7,7 @@
 
 #include "gl_test.hpp"
 #include "harness/effects.hpp"
+#include "harness/progress.hpp"
 #include "harness/results.hpp"
 #include "harness/timer.hpp"
 
@@ -124,6 +125,24 @@ TEST(ShaderSourceTest, IncludesAreExpandedAndEveryLineKnowsItsFile) {
   }
   EXPECT_TRUE(sawMain && sawCommon && sawDefine);
   EXPECT_EQ(pre.source.rfind("#version 450 core\n", 0), 0u);
+}
+
+TEST(ProgressTest, LogsOfLongItemsShowProgressAtMostOncePerInterval) {
+  // Not a terminal (a batch job's log): one line per finished item, and inside a long item one
+  // line per interval; a short item stays one line.
+  ::testing::internal::CaptureStderr();
+  {
+    Progress every(1, std::chrono::seconds(0));
+    every.item(0, "stress");
+    for (int i = 1; i <= 3; ++i) every.frames(i, 3);
+    every.finished("done");
+    Progress quiet(1);
+    quiet.item(0, "short");
+    for (int i = 1; i <= 3; ++i) quiet.frames(i, 3);
+    quiet.finished("done");
+  }
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(),
+            "[1/1] stress: 1/3\n[1/1] stress: 2/3\n[1/1] stress: done\n[1/1] short: done\n");
 }
 
 TEST(ResultsTest, CsvRoundTripsQuotesAndCommas) {
