@@ -17,6 +17,7 @@ static constexpr const char* kScan = "Scan VSV";
 static constexpr const char* kInscatter = "Compute L_s";
 static constexpr const char* kRanges = "Epipolar Ranges";
 static constexpr const char* kSurface = "Surface Shadows";
+static constexpr int kRangesTile = 4;  // pixels per side of one Epipolar Ranges invocation
 
 std::string VsvMethod::description() const {
   return "voxelized shadow volumes (Wyman 2011): epipolar bit grid from the shadow map or the geometry, "
@@ -85,7 +86,8 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   gridUbo_ = gl::createBuffer(sizeof(vsv::GridUniforms));
   rangesSsbo_ = gl::createBuffer(2 * sizeof(uint32_t));
   const std::string defines = sceneDefines(context.effects) + "#define VSV_LAYERS " + std::to_string(size_.layers()) + "\n";
-  rangesProgram_ = gl::buildCompute("methods/vsv/shaders/ranges.comp", defines);
+  rangesProgram_ = gl::buildCompute("methods/vsv/shaders/ranges.comp",
+                                    defines + "#define RANGES_TILE " + std::to_string(kRangesTile) + "\n");
   inscatterDefines_ = defines;
   inscatterProgram_ = gl::buildFullscreen("methods/vsv/shaders/inscatter.frag", defines);
   countingProgram_.reset();
@@ -132,7 +134,9 @@ void VsvMethod::computeRanges(const Frame& frame, PassTimer& timer) {
   const uint32_t zero = 0;
   glClearNamedBufferData(rangesSsbo_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glUseProgram(rangesProgram_.id());
-  glDispatchCompute(GLuint((frame.width + 7) / 8), GLuint((frame.height + 7) / 8), 1);
+  const int groupPixels = 8 * kRangesTile;  // 8x8 invocations, each a tile of pixels
+  glDispatchCompute(GLuint((frame.width + groupPixels - 1) / groupPixels),
+                    GLuint((frame.height + groupPixels - 1) / groupPixels), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
 }
 
