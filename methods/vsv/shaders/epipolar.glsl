@@ -34,7 +34,9 @@ float alphaMax() {
   if (vsv.fixedRanges.z < 0.5) return vsv.fixedRanges.x;
   return clamp(uintBitsToFloat(vsvRanges.alphaMaxBits), 1e-4, PI);
 }
-bool parallelLight() { return vsv.fixedRanges.w > 0.5; }
+// From lightType(): a constant in programs built with sceneDefines, so that llvmpipe, which runs
+// both sides of a branch on a uniform, does not pay for the other kind of light's integral.
+bool parallelLight() { return lightType() == LIGHT_DIRECTIONAL; }
 // Directional light: φ is a distance, so the dynamic range is bounded by the scene's largest
 // distance from the axis (the fixed range: beyond it nothing is shadowed), not by π.
 float phiMax() {
@@ -46,7 +48,7 @@ float phiMax() {
 
 EpipolarFrame vsvFrame() {
   return EpipolarFrame(vsv.eyeAndDistance.xyz, vsv.eyeAndDistance.w, vsv.axis.xyz, vsv.e1.xyz, vsv.e2.xyz,
-                       vsv.fixedRanges.w > 0.5);
+                       parallelLight());
 }
 float thetaOf(vec3 offsetFromEye) { return frameTheta(vsvFrame(), offsetFromEye); }
 vec2 planeCoords(vec3 offsetFromEye) { return framePlane(vsvFrame(), offsetFromEye); }
