@@ -69,7 +69,10 @@ struct ProbeResult {
 };
 
 ProbeResult probe(const vsv::EpipolarBasis& basis, const vsv::GridSize& size, const std::vector<glm::dvec3>& points) {
-  gl::Program program = gl::buildCompute("methods/vsv/shaders/probe.comp", "#define VSV_LAYERS 1\n");
+  // The light type is a compile-time constant in the method's programs (sceneDefines); so here.
+  const int lightType = lightTypeCode(basis.directional ? LightType::Directional : LightType::Point);
+  gl::Program program = gl::buildCompute("methods/vsv/shaders/probe.comp",
+                                         "#define VSV_LAYERS 1\n#define VS_LIGHT_TYPE " + std::to_string(lightType) + "\n");
   vsv::GridUniforms g = vsv::makeGridUniforms(basis, size, false);
   gl::Buffer ubo = gl::createBuffer(sizeof(g), &g);
   uint32_t rangesInit[2] = {0, 0};
