@@ -14,6 +14,7 @@ constexpr const char* kIntegrationPass = "Integration";
 constexpr const char* kNearEpipolePass = "Near Epipole";
 constexpr int kPrefixRes = 1024;  // samples of the untextured prefix tables over gammaAll
 constexpr int kMaxRank = 16;      // kMaxRank in shaders/epipolar.glsl
+constexpr int kMipmapBlock = 16;  // kBlock in shaders/mipmap.comp: nodes reduced per invocation
 
 // Texture units after bind::kFirstMethodUnit (see the shaders).
 constexpr GLuint kUnitTree = 10, kUnitBasisBeta = 11, kUnitGammaPrefix = 12, kUnitTexturedPrefix = 13,
@@ -118,10 +119,6 @@ void MinmaxMethod::allocate(int slices, int rowLength, int rank, bool textured) 
   allocatedTextured_ = textured;
   rectified_ = gl::createTexture2D(GL_R32F, rowLength, slices);
   gl::setFilter(rectified_.id(), GL_NEAREST, GL_NEAREST);
-  for (auto& t : pingPong_) {
-    t = gl::createTexture2D(GL_RG32F, rowLength / 2, slices);
-    gl::setFilter(t.id(), GL_NEAREST, GL_NEAREST);
-  }
   tree_ = gl::createTexture2D(GL_RG32F, 2 * rowLength, slices);
   gl::setFilter(tree_.id(), GL_NEAREST, GL_NEAREST);
   basisBeta_ = gl::createTexture2D(GL_RGBA32F, minmax::kGrid, rankGroups(rank));
@@ -218,16 +215,15 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
     auto scope = timer.scope(kMipmapPass);
     glUseProgram(mipmapProgram_.id());
     glBindTextureUnit(kUnitTree, rectified_.id());
-    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
     glUniform1i(2, slices_);
-    int pass = 0;
-    for (int width = rowLength_ / 2; width >= 1; width /= 2, ++pass) {
-      GLuint next = pingPong_[pass % 2].id(), previous = pingPong_[(pass + 1) % 2].id();
-      glBindImageTexture(1, previous, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32F);
-      glBindImageTexture(2, next, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-      glUniform1i(0, width);
-      glUniform1i(1, pass == 0 ? 1 : 0);
-      dispatch2D(width, slices_);
+    // Each pass reads one level and writes up to four above it (kBlock in the shader).
+    for (int inWidth = rowLength_; inWidth > 1; inWidth = std::max(inWidth / kMipmapBlock, 1)) {
+      glUniform1i(0, inWidth);
+      glUniform1i(1, inWidth == rowLength_ ? 1 : 0);
+      long invocations = long(slices_) * (inWidth / std::min(inWidth, kMipmapBlock));
+      long groups = (invocations + 63) / 64, columns = std::min(groups, 32768L);  // within the 65535 guaranteed per axis
+      glDispatchCompute(GLuint(columns), GLuint((groups + columns - 1) / columns), 1);
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
   }

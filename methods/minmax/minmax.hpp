@@ -52,7 +52,7 @@ class MinmaxMethod : public Method {
   WorkCounters counters_{{"visited", "iterations", "lit_runs"}};
   bool counting_ = false;
   gl::Buffer epipolarUbo_;
-  gl::Texture rectified_, pingPong_[2], tree_;
+  gl::Texture rectified_, tree_;
   gl::Texture basisBeta_, basisGamma_, gammaPrefix_, texturedPrefix_;
 };
 

@@ -249,7 +249,7 @@ TEST_F(MinmaxTest, HardCasesStayFiniteAndClose) {
 }
 
 // Mipmap Construction: every node of each row's tree is (min, max) of its children and the leaves
-// are the rectified row, for rows of 256, 512 and 2048 texels.
+// are the rectified row, for rows of 16 to 2048 texels (every remainder of the four-level passes).
 TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
   Scene scene = loadScene("room");
   RunOptions options;
@@ -257,7 +257,7 @@ TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
   options.height = 24;
   options.frames = 1;
   options.warmup = 0;
-  for (int res : {256, 512, 2048}) {
+  for (int res : {16, 32, 64, 256, 512, 2048}) {
     Runner runner(scene, glLimits(), options);
     MinmaxMethod method;
     MethodRun run = runner.run(method, resolveSpec("minmax:slices=16:res=" + std::to_string(res), glLimits()).params);
