@@ -869,7 +869,9 @@ int runCommand(const RunRequest& request, bool shootout, const MethodRegistry& r
 
 std::string provenanceLine(const ContextInfo& info) {
   json b = buildInfo();
-  return info.glRenderer + " (" + info.glVersion + "); revision " + buildGitSha() + "; " + isoDateUtc() + "; " +
+  // llvmpipe runs on the CPU, whose model shapes the ratios between methods, not only the times.
+  return info.glRenderer + " (" + info.glVersion + "); CPU " + cpuModel() + "; revision " + buildGitSha() + "; " +
+         isoDateUtc() + "; " +
          b["type"].get<std::string>() + " build, " + b["compiler"].get<std::string>() + ", sanitizers " +
          b["sanitizers"].get<std::string>();
 }

@@ -34,9 +34,9 @@ struct RunRequest {
   std::string commandLine;
 };
 
-// One line of provenance for a benchmark's output: renderer, revision, date and build, e.g.
-// "llvmpipe (LLVM 15.0.6, 256 bits) (4.5 (Core Profile) Mesa 22.3.6); revision 0123abcd4567;
-// 2026-12-02T01:00:00Z; Release build, GNU 12.2.0, sanitizers none".
+// One line of provenance for a benchmark's output: renderer, CPU, revision, date and build, e.g.
+// "llvmpipe (LLVM 15.0.6, 256 bits) (4.5 (Core Profile) Mesa 22.3.6); CPU AMD EPYC; revision
+// 0123abcd4567; 2026-12-02T01:00:00Z; Release build, GNU 12.2.0, sanitizers none".
 std::string provenanceLine(const ContextInfo& info);
 // "WxH" into width and height; UsageError for anything else.
 void parseSize(const std::string& text, int& w, int& h);
