@@ -5,30 +5,65 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <glm/glm.hpp>
+#include <vector>
 
 namespace vs {
 
 namespace {
 
-// 3D value noise in [0, 1) with quintic interpolation between hashed lattice values.
-double valueNoise3(double x, double y, double z, uint32_t seed) {
-  double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
-  auto lattice = [&](double ix, double iy, double iz) {
-    uint64_t key = mix64(uint64_t(int64_t(ix)) * 0x9e3779b97f4a7c15ull ^ mix64(uint64_t(int64_t(iy)) + 0x632be5ab) ^
-                           mix64(uint64_t(int64_t(iz)) * 0xd6e8feb86659fd93ull) ^ (uint64_t(seed) << 17));
-    return double(key >> 11) * (1.0 / 9007199254740992.0);
-  };
-  auto fade = [](double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); };
-  double tx = fade(x - fx), ty = fade(y - fy), tz = fade(z - fz);
-  double c[2][2][2];
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      for (int k = 0; k < 2; ++k) c[i][j][k] = lattice(fx + i, fy + j, fz + k);
-  auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
-  double x00 = lerp(c[0][0][0], c[1][0][0], tx), x10 = lerp(c[0][1][0], c[1][1][0], tx);
-  double x01 = lerp(c[0][0][1], c[1][0][1], tx), x11 = lerp(c[0][1][1], c[1][1][1], tx);
-  return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
-}
+// Fractal value noise for the cloud: per octave, hashed lattice values in [0, 1) blended with
+// quintic weights. Samples lie on a grid, so the lattice hashes, cells and weights are computed
+// once per octave and axis.
+class CloudNoise {
+ public:
+  // One octave at `frequency` over a grid of voxel-centre coordinates in (-1, 1) per axis;
+  // y is stretched by 1/4 (a flat layer).
+  CloudNoise(const Volume& v, double frequency, uint32_t seed) {
+    const double axisScale[3] = {frequency, frequency * 0.25, frequency};
+    for (int a = 0; a < 3; ++a) {
+      int n = v.dims[a];
+      cell_[a].resize(size_t(n));
+      weight_[a].resize(size_t(n));
+      double lo = 1e30;
+      for (int i = 0; i < n; ++i) {
+        float p = (i + 0.5f) / n * 2.0f - 1.0f;
+        double x = p * axisScale[a], f = std::floor(x), t = x - f;
+        weight_[a][size_t(i)] = t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+        cell_[a][size_t(i)] = f;
+        lo = std::min(lo, f);
+      }
+      lo_[a] = int64_t(lo);
+      size_[a] = int(int64_t(cell_[a].back()) - lo_[a]) + 2;
+    }
+    values_.resize(size_t(size_[0]) * size_[1] * size_[2]);
+    for (int k = 0; k < size_[2]; ++k)
+      for (int j = 0; j < size_[1]; ++j)
+        for (int i = 0; i < size_[0]; ++i) {
+          int64_t ix = lo_[0] + i, iy = lo_[1] + j, iz = lo_[2] + k;
+          uint64_t key = mix64(uint64_t(ix) * 0x9e3779b97f4a7c15ull ^ mix64(uint64_t(iy) + 0x632be5ab) ^
+                               mix64(uint64_t(iz) * 0xd6e8feb86659fd93ull) ^ (uint64_t(seed) << 17));
+          values_[(size_t(k) * size_[1] + j) * size_[0] + i] = double(key >> 11) * (1.0 / 9007199254740992.0);
+        }
+  }
+  // The noise at voxel (i, j, k).
+  double operator()(int i, int j, int k) const {
+    size_t ci = size_t(int64_t(cell_[0][size_t(i)]) - lo_[0]), cj = size_t(int64_t(cell_[1][size_t(j)]) - lo_[1]),
+           ck = size_t(int64_t(cell_[2][size_t(k)]) - lo_[2]);
+    double tx = weight_[0][size_t(i)], ty = weight_[1][size_t(j)], tz = weight_[2][size_t(k)];
+    auto at = [&](size_t di, size_t dj, size_t dk) { return values_[((ck + dk) * size_[1] + cj + dj) * size_[0] + ci + di]; };
+    auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+    double x00 = lerp(at(0, 0, 0), at(1, 0, 0), tx), x10 = lerp(at(0, 1, 0), at(1, 1, 0), tx);
+    double x01 = lerp(at(0, 0, 1), at(1, 0, 1), tx), x11 = lerp(at(0, 1, 1), at(1, 1, 1), tx);
+    return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
+  }
+
+ private:
+  std::vector<double> cell_[3], weight_[3];  // per axis and voxel index: floor of the coordinate, weight
+  int64_t lo_[3];
+  int size_[3];
+  std::vector<double> values_;  // lattice values over the cells' range plus one
+};
 
 void allocate(Volume& v, int nx, int ny, int nz) {
   v.dims[0] = std::max(nx, 1);
@@ -96,17 +131,23 @@ void generateVolume(Volume& v, const std::string& generator, float scale, uint32
     });
   } else if (generator == "cloud") {
     allocate(v, scaled(512, scale), scaled(32, scale), scaled(512, scale));
-    forEachVoxel(v, [&](glm::vec3 p) {
-      double sum = 0.0, amplitude = 0.5, frequency = 4.0;
-      for (int octave = 0; octave < 4; ++octave) {
-        sum += amplitude * valueNoise3(p.x * frequency, p.y * frequency * 0.25, p.z * frequency, seed + octave);
-        amplitude *= 0.5;
-        frequency *= 2.0;
+    std::vector<CloudNoise> octaves;
+    for (int octave = 0; octave < 4; ++octave) octaves.emplace_back(v, 4.0 * (1 << octave), seed + octave);
+    for (int k = 0; k < v.dims[2]; ++k)
+      for (int j = 0; j < v.dims[1]; ++j) {
+        // A vertical profile that fades at the layer's bottom and top.
+        float y = (j + 0.5f) / v.dims[1] * 2.0f - 1.0f;
+        float profile = std::clamp(1.0f - std::fabs(y), 0.0f, 1.0f);
+        for (int i = 0; i < v.dims[0]; ++i) {
+          double sum = 0.0, amplitude = 0.5;
+          for (const CloudNoise& noise : octaves) {
+            sum += amplitude * noise(i, j, k);
+            amplitude *= 0.5;
+          }
+          // Coverage threshold, then the profile.
+          v.density[(size_t(k) * v.dims[1] + j) * v.dims[0] + i] = std::clamp(float((sum - 0.45) * 4.0) * profile, 0.0f, 1.0f);
+        }
       }
-      // Coverage threshold, then a vertical profile that fades at the layer's bottom and top.
-      float profile = std::clamp(1.0f - std::fabs(p.y), 0.0f, 1.0f);
-      return std::clamp(float((sum - 0.45) * 4.0) * profile, 0.0f, 1.0f);
-    });
   } else {
     allocate(v, 1, 1, 1);
   }
