@@ -114,11 +114,13 @@ TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
   options.width = 16;
   options.height = 12;
   std::vector<std::string> methods = {"raymarch", "vsv", "dsm"};
-  std::vector<StressSummary> whole = runStress(methods, options, glLimits());
+  double wholeReference = 0, partsReference = 0, partsSeconds = 0;
+  std::vector<StressSummary> whole = runStress(methods, options, glLimits(), {}, &wholeReference);
   std::vector<StressSummary> merged;
   options.shards = 3;
   for (options.shard = 0; options.shard < 3; ++options.shard) {
-    std::vector<StressSummary> part = runStress(methods, options, glLimits());
+    std::vector<StressSummary> part = runStress(methods, options, glLimits(), {}, &partsReference);
+    for (const StressSummary& s : part) partsSeconds += s.seconds;
     if (merged.empty()) merged = part;
     else for (size_t m = 0; m < part.size(); ++m) merged[m].merge(part[m]);
   }
@@ -129,7 +131,14 @@ TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
     EXPECT_EQ(merged[m].failures, whole[m].failures) << methods[m];
     EXPECT_EQ(merged[m].worstIndex, whole[m].worstIndex) << methods[m];
     EXPECT_DOUBLE_EQ(merged[m].worstRelmse, whole[m].worstRelmse) << methods[m];
+    EXPECT_GT(merged[m].seconds, 0.0) << methods[m];  // the report's time column
   }
+  // Merging adds the shards' times.
+  double mergedSeconds = 0;
+  for (const StressSummary& s : merged) mergedSeconds += s.seconds;
+  EXPECT_NEAR(mergedSeconds, partsSeconds, 1e-9);
+  EXPECT_GT(wholeReference, 0.0);
+  EXPECT_GT(partsReference, 0.0);
 }
 
 TEST_F(StressShardTest, PrintedConfigurationRendersAsTheStressedOne) {

@@ -1,10 +1,16 @@
 #include "stress.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <map>
+#include <memory>
 #include <random>
+#include <stdexcept>
 
+#include "harness/effects.hpp"
 #include "harness/metrics.hpp"
+#include "harness/params.hpp"
 
 namespace vs::testing {
 
@@ -101,6 +107,7 @@ Scene randomStressScene(uint32_t seed, uint32_t index) {
 
 void StressSummary::merge(const StressSummary& other) {
   tried += other.tried;
+  seconds += other.seconds;
   unsupported += other.unsupported;
   failures += other.failures;
   nonFinite += other.nonFinite;
@@ -121,22 +128,45 @@ void StressSummary::merge(const StressSummary& other) {
 }
 
 std::vector<StressSummary> runStress(const std::vector<std::string>& methods, const StressOptions& options,
-                                     const gl::Limits& limits, const std::function<void(int, int)>& progress) {
+                                     const gl::Limits& limits, const std::function<void(int, int)>& progress,
+                                     double* referenceSeconds) {
+  using Clock = std::chrono::steady_clock;
+  auto secondsSince = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::vector<StressSummary> summaries(methods.size());
   std::vector<ResolvedSpec> specs;
   for (size_t m = 0; m < methods.size(); ++m) {
     summaries[m].method = methods[m];
-    specs.push_back(resolveSpec(methods[m] + ":sm=256", limits));
+    specs.push_back(resolveSpec(methods[m] + ":sm=" + std::to_string(kStressShadowMap), limits));
   }
-  std::string referenceSpec;
+  // The reference: the registered method that declares reference parameters, with those it declares
+  // for the configuration's effects, at most kStressReferenceSteps steps, its shadow maps (the area
+  // lights' too) at the methods' size.
+  std::unique_ptr<Method> referenceMethod;
+  std::string referenceName;
   for (const auto& info : registeredMethods()) {
     auto m = info.create();
     if (!m->referenceParams(Effects{}).empty()) {
-      referenceSpec = info.name + ":" + m->referenceParams(Effects{}) + ":sm=256";
+      referenceMethod = std::move(m);
+      referenceName = info.name;
       break;
     }
   }
-  ResolvedSpec reference = resolveSpec(referenceSpec, limits);
+  if (!referenceMethod) throw std::runtime_error("stress: no registered method declares reference parameters");
+  std::map<std::string, ResolvedSpec> referenceSpecs;  // by the reference parameters' text
+  auto referenceFor = [&](const Scene& scene) -> const ResolvedSpec& {
+    std::string params = referenceMethod->referenceParams(deriveEffects(scene));
+    auto found = referenceSpecs.find(params);
+    if (found != referenceSpecs.end()) return found->second;
+    MethodSpec spec = parseMethodSpec(referenceName + ":" + params);
+    auto cap = [&](const std::string& key, int most) {
+      if (spec.params.count(key) && std::stoi(spec.params[key]) > most) spec.params[key] = std::to_string(most);
+    };
+    cap("steps", kStressReferenceSteps);
+    cap("light_sm", kStressShadowMap);
+    std::string text = referenceName + ":sm=" + std::to_string(kStressShadowMap);
+    for (const auto& [key, value] : spec.params) text += ":" + key + "=" + value;
+    return referenceSpecs.emplace(params, resolveSpec(text, limits)).first->second;
+  };
   RunOptions run;
   run.width = options.width;
   run.height = options.height;
@@ -162,7 +192,9 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
         continue;
       }
       ++summary.tried;
+      auto start = Clock::now();
       MethodRun result = runner.run(*method, specs[m].params);
+      summary.seconds += secondsSince(start);
       if (result.status != RunStatus::Success) {
         ++summary.failures;
         if (result.nonFinitePixels > 0) ++summary.nonFinite;
@@ -183,8 +215,11 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
       if (singular) continue;
       if (!referenceTried) {
         referenceTried = true;
+        auto start = Clock::now();
+        const ResolvedSpec& reference = referenceFor(scene);
         auto refMethod = createMethod(reference.method);
         ref = runner.run(*refMethod, reference.params);
+        if (referenceSeconds) *referenceSeconds += secondsSince(start);
       }
       if (ref.status != RunStatus::Success) continue;
       double relmse = compareImages(result.inscatter, ref.inscatter).relmse;

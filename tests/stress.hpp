@@ -24,10 +24,17 @@ struct StressSummary {
   uint32_t firstFailureIndex = 0;
   double mostNegative = 0;     // the most negative value in any image (0: none)
   uint32_t mostNegativeIndex = 0;
+  double seconds = 0;          // wall-clock time of its runs (shards: summed)
 
   // Adds another slice's summary of the same method (e.g. another shard's).
   void merge(const StressSummary& other);
 };
+
+// Steps of the stress's ray-marched reference at most: at the stress's 32x24, 1024 steps are within
+// L_s relMSE 4.3e-6 of 4096 over 150 configurations (every light type, volume data), a third of the time.
+constexpr int kStressReferenceSteps = 1024;
+// Shadow-map size of every method in the stress, and of the reference (area lights: every light sample's).
+constexpr int kStressShadowMap = 256;
 
 struct StressOptions {
   uint32_t seed = 1;
@@ -38,9 +45,11 @@ struct StressOptions {
 };
 
 // Every method on each configuration of the options' slice, in turn; the reference is rendered once
-// per configuration for all of them. progress(done, total) counts configurations.
+// per configuration for all of them, its wall-clock time added to *referenceSeconds if given.
+// progress(done, total) counts configurations.
 std::vector<StressSummary> runStress(const std::vector<std::string>& methods, const StressOptions& options,
-                                     const gl::Limits& limits, const std::function<void(int, int)>& progress = {});
+                                     const gl::Limits& limits, const std::function<void(int, int)>& progress = {},
+                                     double* referenceSeconds = nullptr);
 inline StressSummary runStress(const std::string& method, const StressOptions& options, const gl::Limits& limits,
                                const std::function<void(int, int)>& progress = {}) {
   return runStress(std::vector<std::string>{method}, options, limits, progress).front();

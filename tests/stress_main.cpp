@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -49,8 +50,16 @@ std::string hardCaseCell(const HardCase& hard, const std::string& methodName) {
   for (float v : run.final.rgb) bad += !(std::isfinite(v) && v >= 0.0f);
   if (bad) return "**" + std::to_string(bad) + " bad values**";
   if (hard.singular) return "finite (singular)";
-  Reference ref = obtainReference(scene, glLimits(), options, 512, makeTempDir("report-ref"));
+  // One cache for the report: the case's reference is rendered once, not once per method.
+  static const std::string referenceCache = makeTempDir("report-ref");
+  Reference ref = obtainReference(scene, glLimits(), options, 512, referenceCache);
   return num(compareImages(run.inscatter, ref.inscatter).relmse);
+}
+
+std::string secondsText(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, s < 100 ? "%.1f" : "%.0f", s);
+  return text;
 }
 
 std::string firstLine(const std::string& s) {
@@ -64,12 +73,17 @@ std::string escapeCell(std::string s) {
   return out;
 }
 
+// Wall-clock seconds of a stress run (shards: summed): all of it, and the reference's renders.
+struct StressTimes {
+  double total = 0, reference = 0;
+};
+
 json summaryJson(const StressSummary& s) {
   return {{"method", s.method},         {"tried", s.tried},           {"unsupported", s.unsupported},
           {"failures", s.failures},     {"nonfinite", s.nonFinite},   {"negative", s.negative},
           {"worst_relmse", s.worstRelmse}, {"worst_index", s.worstIndex}, {"first_failure", s.firstFailure},
           {"first_failure_index", s.firstFailureIndex}, {"most_negative", s.mostNegative},
-          {"most_negative_index", s.mostNegativeIndex}};
+          {"most_negative_index", s.mostNegativeIndex}, {"seconds", s.seconds}};
 }
 
 StressSummary summaryFromJson(const json& j) {
@@ -86,13 +100,15 @@ StressSummary summaryFromJson(const json& j) {
   s.firstFailureIndex = j.at("first_failure_index").get<uint32_t>();
   s.mostNegative = j.at("most_negative").get<double>();
   s.mostNegativeIndex = j.at("most_negative_index").get<uint32_t>();
+  s.seconds = j.at("seconds").get<double>();
   return s;
 }
 
 // Merges shard files written with --partial: the same seed, configurations, size, shard count and
 // methods, every shard exactly once. Throws std::runtime_error naming the file at fault.
 std::vector<StressSummary> mergePartials(const std::vector<std::string>& files, StressOptions& options,
-                                         std::vector<std::string>& methods, std::string& revision) {
+                                         std::vector<std::string>& methods, std::string& revision,
+                                         StressTimes& times) {
   std::vector<StressSummary> merged;
   std::vector<bool> seen;
   for (const std::string& file : files) {
@@ -124,6 +140,8 @@ std::vector<StressSummary> mergePartials(const std::vector<std::string>& files, 
                                    " at " + revision);
         for (size_t m = 0; m < merged.size(); ++m) merged[m].merge(summaryFromJson(j.at("methods")[m]));
       }
+      times.reference += j.at("reference_seconds").get<double>();
+      times.total += j.at("seconds").get<double>();
       if (shard < 0 || shard >= options.shards) throw std::runtime_error("shard " + std::to_string(shard) + " out of range");
       if (seen[size_t(shard)]) throw std::runtime_error("shard " + std::to_string(shard) + " given twice");
       seen[size_t(shard)] = true;
@@ -187,9 +205,10 @@ int main(int argc, char** argv) {
 
   std::vector<StressSummary> summaries;
   std::string revision = buildGitSha();
+  StressTimes times;
   if (!mergeFiles.empty()) {
     try {
-      summaries = mergePartials(mergeFiles, options, methods, revision);
+      summaries = mergePartials(mergeFiles, options, methods, revision, times);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "vshadow_stress: error: %s\n", e.what());
       return 2;
@@ -198,7 +217,10 @@ int main(int argc, char** argv) {
     Progress progress(1);
     progress.item(0, "stress, " + std::to_string(methods.size()) + " methods" +
                          (options.shards > 1 ? ", shard " + shardText : ""));
-    summaries = runStress(methods, options, glLimits(), [&](int done, int total) { progress.frames(done, total); });
+    auto start = std::chrono::steady_clock::now();
+    summaries = runStress(methods, options, glLimits(), [&](int done, int total) { progress.frames(done, total); },
+                          &times.reference);
+    times.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.finished("done");
   }
   int problems = 0;
@@ -214,6 +236,7 @@ int main(int argc, char** argv) {
     json j = {{"seed", options.seed},     {"configs", options.configs}, {"width", options.width},
               {"height", options.height}, {"shard", options.shard},     {"shards", options.shards},
               {"revision", revision},     {"renderer", contextInfo().glRenderer},
+              {"seconds", times.total},   {"reference_seconds", times.reference},
               {"methods", json::array()}};
     for (const auto& s : summaries) j["methods"].push_back(summaryJson(s));
     writeFileAtomic(partial, j.dump(1) + "\n");
@@ -241,14 +264,23 @@ int main(int argc, char** argv) {
      << options.width << "x" << options.height
      << " (random camera, light type and placement, medium, phase, volume data in ~30 %; the light sits on the eye in ~3 % of them)"
      << (options.shards > 1 ? ", run in " + std::to_string(options.shards) + " shards" : std::string()) << ".\n"
-     << "Worst error: L_s relMSE against the ray-marched reference, singular configurations excluded; "
+     << "Worst error: L_s relMSE against the ray-marched reference (its parameters for the configuration's effects, "
+        "at most "
+     << kStressReferenceSteps << " steps, shadow maps " << kStressShadowMap << "² like the methods'), singular configurations excluded; "
         "`vshadow_stress --print-config N --seed "
      << options.seed << " > config.json` writes configuration N as a scene for `vshadow run --scene config.json`.\n\n"
-     << "| method | configurations | tried | unsupported | failures | NaN | negative | worst L_s relMSE (config) |\n"
-     << "|---|---|---|---|---|---|---|---|\n";
-  for (const auto& s : summaries)
+     << "| method | configurations | tried | unsupported | failures | NaN | negative | worst L_s relMSE (config) | time (s) |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  double methodSeconds = 0;
+  for (const auto& s : summaries) {
     md << "| " << s.method << " | " << options.configs << " | " << s.tried << " | " << s.unsupported << " | " << s.failures
-       << " | " << s.nonFinite << " | " << s.negative << " | " << num(s.worstRelmse) << " (" << s.worstIndex << ") |\n";
+       << " | " << s.nonFinite << " | " << s.negative << " | " << num(s.worstRelmse) << " (" << s.worstIndex << ") | "
+       << secondsText(s.seconds) << " |\n";
+    methodSeconds += s.seconds;
+  }
+  md << "\nWall-clock time" << (options.shards > 1 ? " summed over the shards" : "") << ": " << secondsText(times.total)
+     << " s, of which the methods' runs " << secondsText(methodSeconds) << " s (the table's last column), the reference's "
+     << secondsText(times.reference) << " s, and the scenes' set-up the rest.\n";
 
   if (!report.empty()) {
     md << "\n## Hard cases\n\nL_s relMSE against the reference at 64x48 (each method at its defaults, shadow map "
