@@ -229,11 +229,7 @@ class EqualQuality {
     options.warmup = 1;
     options.workCounters = false;
     runner_ = std::make_unique<Runner>(plan.scene, limits, options);
-    for (const auto& info : registry)
-      if (!info.create()->referenceParams(plan.effects).empty()) {
-        baseline_ = info.name;
-        break;
-      }
+    baseline_ = referenceMethodFor(plan.effects, registry).name;
   }
   const std::string& baseline() const { return baseline_; }
   std::string spec(const std::string& sampling, int sm, int steps) const {

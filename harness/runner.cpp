@@ -290,20 +290,22 @@ std::string defaultCacheDir() {
   return ".vshadow-cache";
 }
 
+ReferenceMethod referenceMethodFor(const Effects& effects, const MethodRegistry& registry) {
+  for (const auto& info : registry) {
+    std::string params = info.create()->referenceParams(effects);
+    if (!params.empty()) return {info.name, params};
+  }
+  throw std::runtime_error("no registered method can serve as the reference");
+}
+
+std::string referenceSpecFor(const Effects& effects, int shadowMapSize, const MethodRegistry& registry) {
+  ReferenceMethod m = referenceMethodFor(effects, registry);
+  return m.name + ":" + m.params + ":sm=" + std::to_string(shadowMapSize);
+}
+
 Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options, int shadowMapSize,
                           const std::string& cacheDir, const MethodRegistry& registry, const std::string& overrideSpec) {
-  std::string spec = overrideSpec;
-  if (spec.empty()) {
-    for (const auto& info : registry) {
-      auto m = info.create();
-      std::string params = m->referenceParams(deriveEffects(scene));
-      if (!params.empty()) {
-        spec = info.name + ":" + params + ":sm=" + std::to_string(shadowMapSize);
-        break;
-      }
-    }
-    if (spec.empty()) throw std::runtime_error("no registered method can serve as the reference");
-  }
+  std::string spec = overrideSpec.empty() ? referenceSpecFor(deriveEffects(scene), shadowMapSize, registry) : overrideSpec;
   ResolvedSpec resolved = resolveSpec(spec, limits, registry);
   Reference ref;
   ref.method = resolved.method;

@@ -96,8 +96,17 @@ struct ResolvedSpec {
 };
 ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits, const MethodRegistry& registry);
 
-// The ray-marched reference: the registered method that declares referenceParams(effects), at the
-// largest shadow map of the run, cached on disk by a hash of everything that defines it.
+// The method that serves as the reference for a scene's effects: the first registered one that
+// declares referenceParams(effects), with those parameters ("key=value:..."). Throws when none does.
+struct ReferenceMethod {
+  std::string name, params;
+};
+ReferenceMethod referenceMethodFor(const Effects& effects, const MethodRegistry& registry);
+// Its spec at a shadow-map size: "name:params:sm=N".
+std::string referenceSpecFor(const Effects& effects, int shadowMapSize, const MethodRegistry& registry);
+
+// The ray-marched reference: referenceSpecFor(the scene's effects) at the largest shadow map of the
+// run, cached on disk by a hash of everything that defines it.
 struct Reference {
   std::string method, params, cacheKey, cachePath;
   bool fromCache = false;

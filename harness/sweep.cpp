@@ -271,14 +271,7 @@ std::vector<Shard> planSweep(const Sweep& sweep, const MethodRegistry& registry)
     // shadow map of the whole sweep, as a single run of everything would use.
     std::string referenceSpec;
     if (sweep.reference == "default") {
-      Effects effects = deriveEffects(loaded);
-      for (const auto& info : registry) {
-        std::string params = info.create()->referenceParams(effects);
-        if (!params.empty()) {
-          referenceSpec = info.name + ":" + params + ":sm=" + std::to_string(maxSm);
-          break;
-        }
-      }
+      referenceSpec = referenceSpecFor(deriveEffects(loaded), maxSm, registry);
     } else if (sweep.reference != "none") {
       referenceSpec = sweep.reference;
     }

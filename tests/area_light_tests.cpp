@@ -110,7 +110,7 @@ TEST_F(AreaLightTest, ReferenceMatchesGroundTruthOnArealight) {
   options.steps = 256;
   options.lightSamples = 64;
   GroundTruth gt = renderGroundTruth(scene, options);
-  MethodRun ref = renderScene(scene, "raymarch:" + createMethod("raymarch")->referenceParams(deriveEffects(scene)) + ":sm=1024", W, H);
+  MethodRun ref = renderScene(scene, referenceSpecFor(deriveEffects(scene), 1024, registeredMethods()), W, H);
   ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
   ErrorMetrics ls = compareImages(ref.inscatter, gt.inscatter), final = compareImages(ref.final, gt.final);
   std::printf("arealight: reference vs ground truth: L_s relMSE %.2e ssim %.4f; L relMSE %.2e (%.1f s)\n", ls.relmse,

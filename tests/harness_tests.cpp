@@ -210,6 +210,16 @@ TEST(ParamsTest, SpecsAreValidated) {
   EXPECT_THROW(createMethod("no-such-method"), UsageError);
 }
 
+TEST(ReferenceTest, TheFirstMethodDeclaringReferenceParametersServesEveryCaller) {
+  Effects effects;
+  effects.scattering = effects.extinction = true;
+  ReferenceMethod reference = referenceMethodFor(effects, registeredMethods());
+  ASSERT_FALSE(reference.params.empty());
+  EXPECT_EQ(referenceSpecFor(effects, 512, registeredMethods()), reference.name + ":" + reference.params + ":sm=512");
+  EXPECT_NO_THROW(parseMethodSpec(referenceSpecFor(effects, 512, registeredMethods())));
+  EXPECT_THROW(referenceMethodFor(effects, MethodRegistry{}), std::runtime_error);
+}
+
 class EffectsTest : public GlTest {};
 
 TEST_F(EffectsTest, SceneWithoutMediumRunsNoScatteringPass) {

@@ -138,34 +138,23 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
     summaries[m].method = methods[m];
     specs.push_back(resolveSpec(methods[m] + ":sm=" + std::to_string(kStressShadowMap), limits));
   }
-  // The reference: the registered method that declares reference parameters, with those it declares
-  // for the configuration's effects, at most kStressReferenceSteps steps, its shadow maps (the area
-  // lights' too) at the methods' size.
-  std::unique_ptr<Method> referenceMethod;
-  std::string referenceName;
-  for (const auto& info : registeredMethods()) {
-    auto m = info.create();
-    if (!m->referenceParams(Effects{}).empty()) {
-      referenceMethod = std::move(m);
-      referenceName = info.name;
-      break;
-    }
-  }
-  if (!referenceMethod) throw std::runtime_error("stress: no registered method declares reference parameters");
-  std::map<std::string, ResolvedSpec> referenceSpecs;  // by the reference parameters' text
+  // The reference: referenceMethodFor(the configuration's effects), at most kStressReferenceSteps
+  // steps, its shadow maps (the area lights' too) at the methods' size.
+  std::map<std::string, ResolvedSpec> referenceSpecs;  // by the reference's spec text
   auto referenceFor = [&](const Scene& scene) -> const ResolvedSpec& {
-    std::string params = referenceMethod->referenceParams(deriveEffects(scene));
-    auto found = referenceSpecs.find(params);
+    ReferenceMethod reference = referenceMethodFor(deriveEffects(scene), registeredMethods());
+    std::string key = reference.name + ":" + reference.params;
+    auto found = referenceSpecs.find(key);
     if (found != referenceSpecs.end()) return found->second;
-    MethodSpec spec = parseMethodSpec(referenceName + ":" + params);
-    auto cap = [&](const std::string& key, int most) {
-      if (spec.params.count(key) && std::stoi(spec.params[key]) > most) spec.params[key] = std::to_string(most);
+    MethodSpec spec = parseMethodSpec(key);
+    auto cap = [&](const std::string& param, int most) {
+      if (spec.params.count(param) && std::stoi(spec.params[param]) > most) spec.params[param] = std::to_string(most);
     };
     cap("steps", kStressReferenceSteps);
     cap("light_sm", kStressShadowMap);
-    std::string text = referenceName + ":sm=" + std::to_string(kStressShadowMap);
-    for (const auto& [key, value] : spec.params) text += ":" + key + "=" + value;
-    return referenceSpecs.emplace(params, resolveSpec(text, limits)).first->second;
+    std::string text = reference.name + ":sm=" + std::to_string(kStressShadowMap);
+    for (const auto& [param, value] : spec.params) text += ":" + param + "=" + value;
+    return referenceSpecs.emplace(key, resolveSpec(text, limits)).first->second;
   };
   RunOptions run;
   run.width = options.width;

@@ -145,7 +145,7 @@ TEST_F(TranslucencyTest, ReferenceMatchesGroundTruthOnFoliage) {
   options.height = H;
   options.steps = 512;
   GroundTruth gt = renderGroundTruth(scene, options);
-  MethodRun ref = renderScene(scene, "raymarch:" + createMethod("raymarch")->referenceParams(deriveEffects(scene)) + ":sm=2048", W, H);
+  MethodRun ref = renderScene(scene, referenceSpecFor(deriveEffects(scene), 2048, registeredMethods()), W, H);
   ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
   ErrorMetrics ls = compareImages(ref.inscatter, gt.inscatter), final = compareImages(ref.final, gt.final);
   std::printf("foliage: the reference (4096 steps, split into passes) vs ground truth: L_s relMSE %.2e ssim %.4f; L relMSE %.2e ssim %.4f (%.1f s)\n",

@@ -105,7 +105,7 @@ TEST_F(VolumeTest, ReferenceMatchesGroundTruthOnBuiltinVolumeScenes) {
     options.height = H;
     options.steps = 512;
     GroundTruth gt = renderGroundTruth(scene, options);
-    MethodRun ref = renderScene(scene, "raymarch:" + createMethod("raymarch")->referenceParams(deriveEffects(scene)) + ":sm=2048", W, H);
+    MethodRun ref = renderScene(scene, referenceSpecFor(deriveEffects(scene), 2048, registeredMethods()), W, H);
     ASSERT_EQ(ref.status, RunStatus::Success) << ref.reason;
     ErrorMetrics ls = compareImages(ref.inscatter, gt.inscatter);
     ErrorMetrics final = compareImages(ref.final, gt.final);
