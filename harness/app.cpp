@@ -23,6 +23,7 @@
 #include "progress.hpp"
 #include "results.hpp"
 #include "runner.hpp"
+#include "step_search.hpp"
 
 namespace vs {
 
@@ -257,44 +258,35 @@ class EqualQuality {
     return p;
   }
 
-  // Smallest step count whose L_s relMSE is at most `target` (bisection on [1, kMaxSteps], the error
-  // taken as non-increasing in the step count).
+  // Smallest step count whose L_s relMSE is at most `target` (doubling to a bracket, then bisection
+  // in log(steps), up to kMaxSteps; the error taken as non-increasing in the step count).
   Match match(const std::string& sampling, int sm, double target) {
     Match m;
-    Point top = at(sampling, sm, kMaxSteps);
+    int steps = smallestPassingSteps(
+        [&](int n) {
+          Point p = at(sampling, sm, n);
+          return p.ok && p.lsRelmse <= target;
+        },
+        kMaxSteps);
+    if (steps > 0) {
+      m.any = m.reached = true;
+      m.steps = steps;
+      m.ms = at(sampling, sm, steps).scatterMs;
+      return m;
+    }
+    Point top = at(sampling, sm, kMaxSteps);  // evaluated last by the search
     if (!top.ok) return m;
     m.any = true;
-    if (top.lsRelmse > target) {
-      m.steps = kMaxSteps;  // not reached: the time is a lower bound
-      m.ms = top.scatterMs;
-    } else {
-      int lo = 1, hi = kMaxSteps;  // err(hi) <= target
-      if (at(sampling, sm, lo).ok && at(sampling, sm, lo).lsRelmse <= target) hi = lo;
-      while (hi - lo > 1 && hi > 1) {
-        int mid = int(std::lround(std::sqrt(double(lo) * double(hi))));  // bisection in log(steps)
-        mid = std::clamp(mid, lo + 1, hi - 1);
-        Point p = at(sampling, sm, mid);
-        if (p.ok && p.lsRelmse <= target) hi = mid;
-        else lo = mid;
-      }
-      m.steps = hi;
-      m.ms = at(sampling, sm, hi).scatterMs;
-      m.reached = true;
-    }
+    m.steps = kMaxSteps;  // not reached: the time is a lower bound
+    m.ms = top.scatterMs;
     return m;
   }
 
   // The baseline's L_s RMSE at the largest step count that runs within `rowMs` (time taken as
   // increasing in the step count).
   double equalTimeLsRmse(const std::string& sampling, int sm, double rowMs) {
-    if (at(sampling, sm, 1).scatterMs > rowMs) return at(sampling, sm, 1).lsRmse;
-    int lo = 1, hi = kMaxSteps;
-    while (hi - lo > 1) {
-      int mid = std::clamp(int(std::lround(std::sqrt(double(lo) * double(hi)))), lo + 1, hi - 1);
-      if (at(sampling, sm, mid).scatterMs <= rowMs) lo = mid;
-      else hi = mid;
-    }
-    return at(sampling, sm, at(sampling, sm, hi).scatterMs <= rowMs ? hi : lo).lsRmse;
+    int over = smallestPassingSteps([&](int n) { return at(sampling, sm, n).scatterMs > rowMs; }, kMaxSteps);
+    return at(sampling, sm, over == 0 ? kMaxSteps : std::max(over - 1, 1)).lsRmse;
   }
 
  private:

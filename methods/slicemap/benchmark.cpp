@@ -20,6 +20,7 @@
 #include "harness/ground_truth.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
+#include "harness/step_search.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -82,27 +83,6 @@ size_t triangles(const Scene& scene, bool opaque) {
   for (const Mesh& m : scene.meshes)
     if (m.isOpaque() == opaque) n += m.triangleCount();
   return n;
-}
-
-// Smallest raymarch step count (bisection in log(steps) on 1..4096, error taken as non-increasing
-// in steps) whose L_s relMSE is at most `target`; errors cached per step count. 0: never reached.
-int stepsForError(double target, std::map<int, double>& errorAt, const std::function<double(int)>& evaluate) {
-  auto err = [&](int steps) {
-    auto it = errorAt.find(steps);
-    if (it != errorAt.end()) return it->second;
-    return errorAt[steps] = evaluate(steps);
-  };
-  const int kMax = 4096;
-  if (err(kMax) > target) return 0;
-  int lo = 1, hi = kMax;  // err(hi) <= target
-  if (err(lo) <= target) return lo;
-  while (hi - lo > 1) {
-    int mid = int(std::lround(std::sqrt(double(lo) * double(hi))));
-    mid = std::clamp(mid, lo + 1, hi - 1);
-    if (err(mid) <= target) hi = mid;
-    else lo = mid;
-  }
-  return hi;
 }
 
 }  // namespace
@@ -301,7 +281,15 @@ int main(int argc, char** argv) {
                                &ref.run.inscatter);
           return b.ok ? b.relmse : 1e30;
         };
-        int steps = stepsForError(m.relmse, errorAt[sampling], evaluate);
+        // The smallest step count reaching slicemap's error (harness/step_search.hpp), up to 4096;
+        // errors cached per step count across the settings.
+        std::map<int, double>& errors = errorAt[sampling];
+        int steps = smallestPassingSteps(
+            [&](int n) {
+              auto it = errors.find(n);
+              return (it != errors.end() ? it->second : (errors[n] = evaluate(n))) <= m.relmse;
+            },
+            4096);
         stepsFound.push_back(steps);
         if (steps > 0) specs.push_back("raymarch:steps=" + std::to_string(steps) + ":sampling=" + sampling);
       }
