@@ -136,7 +136,13 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
   std::vector<ResolvedSpec> specs;
   for (size_t m = 0; m < methods.size(); ++m) {
     summaries[m].method = methods[m];
-    specs.push_back(resolveSpec(methods[m] + ":sm=" + std::to_string(kStressShadowMap), limits));
+    std::string spec = methods[m] + ":sm=" + std::to_string(kStressShadowMap);
+    ResolvedSpec resolved = resolveSpec(spec, limits);
+    // A method's own maps ("res": dsm's deep shadow map, slicemap's slicemaps) at most that size too:
+    // dsm's 512² map per face was two thirds of the methods' time.
+    if (resolved.params.has("res") && resolved.params.getInt("res") > kStressShadowMap)
+      resolved = resolveSpec(spec + ":res=" + std::to_string(kStressShadowMap), limits);
+    specs.push_back(resolved);
   }
   // The reference: referenceMethodFor(the configuration's effects), at most kStressReferenceSteps
   // steps, its shadow maps (the area lights' too) at the methods' size.

@@ -34,7 +34,8 @@ struct StressSummary {
 // 32x24, within L_s relMSE 4.3e-6 of 4096 over 150 configurations (every light type, volume data);
 // 1.7e-3 in the densest haze of the 10,000 (config 9458, where 64 uniform steps are at 1.4).
 constexpr int kStressReferenceSteps = 1024;
-// Shadow-map size of every method in the stress, and of the reference (area lights: every light sample's).
+// Shadow-map size of every method in the stress, and of the reference (area lights: every light sample's);
+// the most texels per side of a method's own maps (its "res").
 constexpr int kStressShadowMap = 256;
 
 struct StressOptions {
