@@ -72,7 +72,13 @@ std::string randomStressSceneJson(uint32_t seed, uint32_t index) {
     light = {{"type", "directional"}, {"direction", dir}};
   }
   light["intensity"] = light["type"] == "directional" ? r.logUniform(0.1, 10) : r.logUniform(1, 200);
-  if (light["type"] == "rect" || light["type"] == "disk") light["intensity"] = r.logUniform(1, 50);
+  if (light["type"] == "rect" || light["type"] == "disk") {
+    // Power, as a one-sided emitter of head-on intensity 1..50 W/sr (the scene turns it into radiance
+    // over the area): a radiance drawn directly left a light of side 1e-4 lighting nothing, and the
+    // report's error of area lights said nothing.
+    light.erase("intensity");
+    light["power"] = M_PI * r.logUniform(1, 50);
+  }
   light["color"] = json::array({r.uniform(0.2, 1), r.uniform(0.2, 1), r.uniform(0.2, 1)});
   scene["light"] = light;
   json medium = {{"sigma_s", r.chance(0.1) ? 0.0 : r.logUniform(1e-4, 2)},
