@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::printf("# dsm: deep shadow maps, measured\n\n");
-  std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 20 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 17 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
   std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
