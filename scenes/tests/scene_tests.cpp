@@ -796,6 +796,23 @@ TEST(Volumes, CloudDensitiesStayTheSameBitForBit) {
   EXPECT_EQ(hash, 0x1253b6c75d1a6e3bull);
 }
 
+TEST(Volumes, GridsMadeAgainAreTheSameAndKeyedBySeedAndScale) {
+  // generateVolume keeps the last grids it made: a second scene gets the same grid, a change of
+  // seed or scale a different one.
+  auto cloud = [&](const char* extra) {
+    return parse(volumeScene(std::string(R"({"generator": "cloud", )") + extra +
+                             R"(, "box_min": [-1, 0, -1], "box_max": [1, 2, 1]})"))
+        .volumes[0];
+  };
+  vs::Volume a = cloud(R"("scale": 0.25, "seed": 3)"), again = cloud(R"("scale": 0.25, "seed": 3)");
+  vs::Volume seed = cloud(R"("scale": 0.25, "seed": 4)"), scale = cloud(R"("scale": 0.125, "seed": 3)");
+  EXPECT_EQ(a.density, again.density);
+  EXPECT_EQ(again.dims[0], 128);
+  EXPECT_NE(a.density, seed.density);
+  EXPECT_EQ(scale.dims[0], 64);
+  EXPECT_EQ(scale.density.size(), size_t(64 * 4 * 64));
+}
+
 TEST(Volumes, BadRawFilesAndKeysAreOneLineErrors) {
   TempDir dir;
   dir.write("eight.u8", std::string(8, '\x10'));
