@@ -159,7 +159,8 @@ void generateGrid(Volume& v, const std::string& generator, float scale, uint32_t
 
 // A grid depends on (generator, scale, seed) alone, and scenes that differ in box and coefficients
 // share it (the stress draws 10,000 of them; the cloud's 8 M voxels take about 0.2 s to make): the
-// last few grids made are kept and copied.
+// last few grids made are kept and copied, those of at most kMostVoxelsKept voxels (a scaled-up
+// grid of up to 1 GiB is not held twice for the life of the process).
 void generateVolume(Volume& v, const std::string& generator, float scale, uint32_t seed) {
   struct Made {
     std::string generator;
@@ -168,7 +169,7 @@ void generateVolume(Volume& v, const std::string& generator, float scale, uint32
     int dims[3];
     std::vector<float> density;
   };
-  constexpr size_t kKept = 4;
+  constexpr size_t kKept = 4, kMostVoxelsKept = size_t(1) << 24;
   static std::mutex mutex;
   static std::deque<Made> made;
   {
@@ -181,6 +182,7 @@ void generateVolume(Volume& v, const std::string& generator, float scale, uint32
       }
   }
   generateGrid(v, generator, scale, seed);
+  if (v.voxelCount() > kMostVoxelsKept) return;
   std::lock_guard<std::mutex> lock(mutex);
   made.push_front(Made{generator, scale, seed, {v.dims[0], v.dims[1], v.dims[2]}, v.density});
   if (made.size() > kKept) made.pop_back();
