@@ -330,6 +330,7 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   plan.effects = deriveEffects(plan.scene);
   for (const auto& spec : req.methods) createMethod(registry, shootout ? spec : parseMethodSpec(spec).method);
   pickRungs(req.rungs, 0);  // the words are valid
+  if (req.minTimeMs > 0.0 && req.warmup < 1) throw UsageError("--min-time needs --warmup of at least 1: the warm-up frame's time sizes the run");
   plan.exactReference = req.referenceSpec == "exact";
   plan.haveExact = req.exact || plan.exactReference;
   plan.haveReference = !req.noReference;
@@ -425,6 +426,7 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
       {"height", plan.height},
       {"frames", req.frames},
       {"warmup", req.warmup},
+      {"min_time_ms", req.minTimeMs},
       {"rounds", req.rounds},
       {"seed", req.seed},
       {"timer",
@@ -748,6 +750,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   options.height = plan.height;
   options.frames = req.frames;
   options.warmup = req.warmup;
+  options.minTimeMs = req.minTimeMs;
   options.seed = uint32_t(req.seed);
   options.timer = calibration.chosen;
   options.workCounters = true;

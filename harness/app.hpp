@@ -19,6 +19,9 @@ struct RunRequest {
   std::string referenceSpec;         // empty: the registered reference method; "exact": ground truth
   std::string timer = "auto";        // auto | gpu | wall
   int frames = 20, warmup = 3;
+  // --min-time: > 0, a run measures as many of its frames as fill this many ms at its warm-up
+  // frame's time (at least one; RunOptions::minTimeMs).
+  double minTimeMs = 0;
   // Interleaved rounds (--rounds): every job runs once per round, in turn (A B C, A B C, ...), and
   // its timings are the medians over the rounds, with their spread.
   int rounds = 1;

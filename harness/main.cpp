@@ -25,6 +25,11 @@ int main(int argc, char** argv) {
     cmd->add_option("--out", r.out, "output folder (rows already there are kept)")->capture_default_str();
     cmd->add_option("--frames", r.frames, "measured frames per method")->capture_default_str()->check(CLI::Range(1, 100000));
     cmd->add_option("--warmup", r.warmup, "warm-up frames per method")->capture_default_str()->check(CLI::Range(0, 100000));
+    cmd->add_option("--min-time", r.minTimeMs,
+                    "measure only as many of --frames as fill this many ms at the last warm-up frame's time (at "
+                    "least one; 0: all of them; needs --warmup of at least 1)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e7));
     cmd->add_option("--rounds", r.rounds,
                     "interleaved rounds: every row runs once per round, in turn, and its timings are the medians "
                     "over the rounds (their range in the *_round_min/max columns)")

@@ -1,5 +1,6 @@
 #include "runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -230,8 +231,23 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     approximations();  // setup may know more (the scene's and parameters' departures)
     PassTimer timer(options_.timer);
     int total = options_.warmup + options_.frames;
-    for (int f = 0; f < total; ++f) {
-      renderFrame(method, timer, uint32_t(f), f >= options_.warmup);
+    int measured = options_.frames;
+    for (int f = 0; f < options_.warmup; ++f) {
+      bool sizing = options_.minTimeMs > 0.0 && f == options_.warmup - 1;
+      if (sizing) glFinish();
+      auto start = std::chrono::steady_clock::now();
+      renderFrame(method, timer, uint32_t(f), false);
+      if (sizing) {
+        glFinish();
+        double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        measured = std::clamp(int(std::ceil(options_.minTimeMs / std::max(ms, 1e-3))), 1, options_.frames);
+      }
+      gl::checkErrors("frame");
+      if (progress) progress(f + 1, total);
+    }
+    // The measured frames are the last ones of a full run, so the images do not depend on `measured`.
+    for (int f = total - measured; f < total; ++f) {
+      renderFrame(method, timer, uint32_t(f), true);
       gl::checkErrors("frame");
       if (progress) progress(f + 1, total);
     }

@@ -16,6 +16,10 @@ namespace vs {
 struct RunOptions {
   int width = 512, height = 512;
   int frames = 20, warmup = 3;
+  // > 0: the measured frames are as many as fill this many milliseconds at the last warm-up frame's
+  // time, at least one and at most `frames` (needs a warm-up frame). Slow runs then take fewer
+  // frames; the last frame, whose images are read back, is frame warmup + frames - 1 either way.
+  double minTimeMs = 0;
   uint32_t seed = 1;
   TimerStrategy timer = TimerStrategy::WallClock;
   // false: nothing is drawn into the shadow map, so V = 1 everywhere. Gives the unshadowed L_s

@@ -42,6 +42,8 @@ const std::vector<BadInput>& badInputs() {
        "command-line option that does not exist"},
       {"bad_frames", {"run", "--scene", "spheres", "--method", "raymarch", "--frames", "0"}, "frames",
        "--frames 0"},
+      {"min_time_without_warmup", {"run", "--scene", "spheres", "--method", "raymarch", "--warmup", "0", "--min-time", "100"},
+       "--min-time needs --warmup", "--min-time without a warm-up frame to size the run"},
       {"unknown_reference_method", {"run", "--scene", "spheres", "--method", "raymarch", "--reference", "nosuch:steps=1"},
        "nosuch", "--reference naming an unknown method"},
       {"raw_volume_too_short", {"run", "--scene", "%DIR%/short-volume.json", "--method", "raymarch"}, "need 64",

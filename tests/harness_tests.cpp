@@ -220,6 +220,37 @@ TEST(ReferenceTest, TheFirstMethodDeclaringReferenceParametersServesEveryCaller)
   EXPECT_THROW(referenceMethodFor(effects, MethodRegistry{}), std::runtime_error);
 }
 
+class MinTimeTest : public GlTest {};
+
+// --min-time: a slow run measures fewer frames, a fast one all of them, and the images read back
+// are those of a full run (the measured frames are the run's last, jitter included).
+TEST_F(MinTimeTest, SlowRunsMeasureFewerFramesWithTheSameImages) {
+  Scene scene = loadScene("spheres");
+  RunOptions full;
+  full.width = 48;
+  full.height = 36;
+  full.frames = 5;
+  full.warmup = 1;
+  const std::string spec = "raymarch:steps=64:jitter=1:sm=256";
+  MethodRun all = renderScene(scene, spec, full);
+  ASSERT_EQ(all.status, RunStatus::Success) << all.reason;
+  EXPECT_EQ(all.frame.samples, 5u);
+
+  RunOptions budget = full;
+  budget.minTimeMs = 1e-6;  // any frame fills it: one measured frame
+  MethodRun one = renderScene(scene, spec, budget);
+  ASSERT_EQ(one.status, RunStatus::Success) << one.reason;
+  EXPECT_EQ(one.frame.samples, 1u);
+  EXPECT_EQ(one.passStats.at("Ray Marching").samples, 1u);
+  EXPECT_EQ(one.inscatter.rgb, all.inscatter.rgb);
+
+  budget.minTimeMs = 1e7;  // no frame fills it: every frame
+  MethodRun capped = renderScene(scene, spec, budget);
+  ASSERT_EQ(capped.status, RunStatus::Success) << capped.reason;
+  EXPECT_EQ(capped.frame.samples, 5u);
+  EXPECT_EQ(capped.inscatter.rgb, all.inscatter.rgb);
+}
+
 class EffectsTest : public GlTest {};
 
 TEST_F(EffectsTest, SceneWithoutMediumRunsNoScatteringPass) {
