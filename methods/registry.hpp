@@ -24,6 +24,15 @@ inline MethodRun runSpec(Runner& runner, const gl::Limits& limits, const std::st
   auto method = createMethod(r.method);
   return runner.run(*method, r.params);
 }
+// The benchmarks measure as many of their frames as fill this long at the warm-up frame's time
+// (RunOptions::minTimeMs): a run of a second or more measures one frame per round.
+constexpr double kBenchmarkMinTimeMs = 400;
+// "medians of up to 3 frames (...) after 1 warm-up": how benchmarkSpec measures, for their headers.
+inline std::string benchmarkFramesNote(int frames) {
+  if (frames <= 1) return "1 frame after 1 warm-up";
+  return "medians of up to " + std::to_string(frames) + " frames after 1 warm-up (as many as fill " +
+         std::to_string(int(kBenchmarkMinTimeMs)) + " ms at the warm-up frame's time)";
+}
 // One spec on its own runner as the benchmarks measure it: wall-clock pass timer, one warm-up frame.
 inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, const gl::Limits& limits, int width,
                                int height, int frames) {
@@ -32,6 +41,7 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   options.height = height;
   options.frames = frames;
   options.warmup = 1;
+  options.minTimeMs = kBenchmarkMinTimeMs;
   options.timer = TimerStrategy::WallClock;
   Runner runner(scene, limits, options);
   return runSpec(runner, limits, spec);

@@ -48,6 +48,24 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
   return m;
 }
 
+// One frame on a scene's shared runner, without a warm-up: the equal-quality grid's points, whose
+// errors are what counts; their single-frame times only pick each rung's match, which is then timed
+// in rounds.
+Measured measureOnce(Runner& runner, const std::string& spec, const gl::Limits& limits, const Image& reference) {
+  Measured m;
+  m.run = runSpec(runner, limits, spec);
+  if (m.run.status != RunStatus::Success) {
+    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
+    return m;
+  }
+  m.ok = true;
+  m.scatterMs = scatterMsOf(m.run);
+  m.relmse = compareImages(m.run.inscatter, reference).relmse;
+  m.run.inscatter = Image();
+  m.run.final = Image();
+  return m;
+}
+
 double stat(const MethodRun& run, const std::string& key) {
   auto it = run.stats.find(key);
   return it == run.stats.end() ? 0.0 : it->second;
@@ -124,7 +142,7 @@ int main(int argc, char** argv) {
     std::printf("# dsm: coloured shadows, measured\n\n");
     std::printf("Regenerate: `build/methods/dsm/dsm_benchmark --coloured > results/dsm/coloured.md` (under a minute on 2 cores).\n\n");
     std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-    std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
+    std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
     std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light)\n");
     colouredShadows(limits, sw, sh, frames, rounds);
     return 0;
@@ -132,7 +150,7 @@ int main(int argc, char** argv) {
   std::printf("# dsm: deep shadow maps, measured\n\n");
   std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 17 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
+  std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
   std::printf("- scattering time: DSM Generation + Volume March (dsm), Ray Marching (raymarch); the shared\n"
               "  passes and dsm's Surface Shadows are listed apart\n\n");
@@ -143,7 +161,8 @@ int main(int argc, char** argv) {
               "step counts (factors of sqrt 2 from 16), light steps per voxel (`vsteps` 0.25, 0.5, 1) and, for point "
               "lights, uniform and equiangular sampling; each (vsteps, sampling) column of the grid stops at the "
               "first step count that reaches every dsm setting's error, or that costs more than a grid setting that did "
-              "(no slower setting can be a match). The pair is then timed in turn over %d "
+              "(no slower setting can be a match); a grid point is one frame without a warm-up, its time only picks the "
+              "match. The pair is then timed in turn over %d "
               "rounds: the speedup is the median of the rounds' ratios, with their range. `at least` divides the "
               "median time of the slowest grid setting that still misses dsm's error, and cost less than the match "
               "(timed in the same rounds; the match's own time where that one timed slower), by dsm's median: the grid "
@@ -159,10 +178,16 @@ int main(int argc, char** argv) {
     Scene scene = loadScene(name);
     Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, w, h, 1, nullptr);
     if (!ref.ok) return 1;
+    RunOptions once;
+    once.width = w;
+    once.height = h;
+    once.frames = 1;
+    once.warmup = 0;
+    Runner gridRunner(scene, limits, once);
     std::vector<Measured> rungs;
     double lowest = 1e30;
     for (const std::string& setting : ladder) {
-      rungs.push_back(measure(scene, "dsm:" + setting, limits, w, h, 1, &ref.run.inscatter));
+      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, limits, ref.run.inscatter));
       if (rungs.back().ok) lowest = std::min(lowest, rungs.back().relmse);
     }
     std::vector<Measured> baselines;
@@ -176,7 +201,7 @@ int main(int argc, char** argv) {
         for (double steps = 16; steps <= (quick ? 64 : 1100); steps *= std::sqrt(2.0)) {
           std::string spec = "raymarch:steps=" + std::to_string(int(std::lround(steps))) + ":vsteps=" + vsteps +
                              ":sampling=" + sampling;
-          baselines.push_back(measure(scene, spec, limits, w, h, 1, &ref.run.inscatter));
+          baselines.push_back(measureOnce(gridRunner, spec, limits, ref.run.inscatter));
           baselineSpecs.push_back(spec);
           const Measured& b = baselines.back();
           if (!b.ok) continue;

@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
               "results/ivsv/README.md, about 4 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
-  std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
+  std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: `%s`. Its light samples are not the VPLs of any row, so each row's light-sampling "
               "error counts.\n", refSpec.c_str());
   std::printf("- times: the method's own passes; the shared Shadow Map, G Buffer, Direct Lighting and Composite "

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
   std::printf("provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("image %dx%d, wall-clock pass timer (glFinish-bracketed), medians of 3 frames after 1 warm-up\n", w, h);
+  std::printf("image %dx%d, wall-clock pass timer (glFinish-bracketed), %s\n", w, h, benchmarkFramesNote(3).c_str());
   std::printf("reference: raymarch steps=4096 at the same shadow map; scattering time = the method's own passes\n\n");
 
   const std::vector<std::string> scenes = {"room", "trees", "terrain"};

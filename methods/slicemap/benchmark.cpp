@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 8 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("- timer: wall clock around each pass (glFinish), medians of %d frames after 1 warm-up\n", frames);
+  std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"
               "  the shared passes (Shadow Map, Transmittance Map, G Buffer, Direct Lighting, Composite) and slicemap's\n"
               "  Shading are listed apart\n\n");
