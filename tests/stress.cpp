@@ -151,7 +151,7 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
     specs.push_back(resolved);
   }
   // The reference: referenceMethodFor(the configuration's effects), at most kStressReferenceSteps
-  // steps, its shadow maps (the area lights' too) at the methods' size.
+  // steps (kStressAreaReferenceSteps for area lights), its shadow maps (the area lights' too) at the methods' size.
   std::map<std::string, ResolvedSpec> referenceSpecs;  // by the reference's spec text
   auto referenceFor = [&](const Scene& scene) -> const ResolvedSpec& {
     ReferenceMethod reference = referenceMethodFor(deriveEffects(scene), registeredMethods());
@@ -162,7 +162,7 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
     auto cap = [&](const std::string& param, int most) {
       if (spec.params.count(param) && std::stoi(spec.params[param]) > most) spec.params[param] = std::to_string(most);
     };
-    cap("steps", kStressReferenceSteps);
+    cap("steps", deriveEffects(scene).areaLight ? kStressAreaReferenceSteps : kStressReferenceSteps);
     cap("light_sm", kStressShadowMap);
     std::string text = reference.name + ":sm=" + std::to_string(kStressShadowMap);
     for (const auto& [param, value] : spec.params) text += ":" + param + "=" + value;

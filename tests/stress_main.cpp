@@ -266,7 +266,7 @@ int main(int argc, char** argv) {
      << (options.shards > 1 ? ", run in " + std::to_string(options.shards) + " shards" : std::string()) << ".\n"
      << "Worst error: L_s relMSE against the ray-marched reference (its parameters for the configuration's effects, "
         "at most "
-     << kStressReferenceSteps << " steps, shadow maps " << kStressShadowMap << "² like the methods', whose own maps (`res`) are at most "
+     << kStressReferenceSteps << " steps, " << kStressAreaReferenceSteps << " for area lights, shadow maps " << kStressShadowMap << "² like the methods', whose own maps (`res`) are at most "
      << kStressShadowMap << "² too), singular configurations excluded; "
         "`vshadow_stress --print-config N --seed "
      << options.seed << " > config.json` writes configuration N as a scene for `vshadow run --scene config.json`.\n\n"
