@@ -34,13 +34,15 @@ inline std::string benchmarkFramesNote(int frames) {
          std::to_string(int(kBenchmarkMinTimeMs)) + " ms at the warm-up frame's time)";
 }
 // One spec on its own runner as the benchmarks measure it: wall-clock pass timer, one warm-up frame.
+// frames 0: one frame without a warm-up, for runs whose images are all that is kept (references,
+// the errors of a step search).
 inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, const gl::Limits& limits, int width,
                                int height, int frames) {
   RunOptions options;
   options.width = width;
   options.height = height;
-  options.frames = frames;
-  options.warmup = 1;
+  options.frames = std::max(frames, 1);
+  options.warmup = frames > 0 ? 1 : 0;
   options.minTimeMs = kBenchmarkMinTimeMs;
   options.timer = TimerStrategy::WallClock;
   Runner runner(scene, limits, options);

@@ -102,7 +102,7 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
               "channel's transmittance T^ratio) is only an approximation; `channels=3` (the default `auto` here) "
               "generates and reads one map per channel. Times: median [range] over %d rounds in turn.\n\n", rounds);
   Scene scene = twoColourScene();
-  Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2", limits, w, h, 1, nullptr);
+  Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2", limits, w, h, 0, nullptr);
   if (!ref.ok) return;
   std::printf("| setting | channels | L_s relMSE | L relMSE | DSM Generation ms | Volume March ms | scattering ms |\n"
               "|---|---|---|---|---|---|---|\n");
@@ -111,7 +111,7 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
     for (const char* channels : {"1", "3"}) specs.push_back(std::string("dsm:") + setting + ":channels=" + channels);
     auto timed = runInterleaved(scene, specs, limits, w, h, frames, rounds);
     for (size_t i = 0; i < specs.size(); ++i) {
-      Measured m = measure(scene, specs[i], limits, w, h, 1, &ref.run.inscatter);
+      Measured m = measure(scene, specs[i], limits, w, h, 0, &ref.run.inscatter);
       if (!m.ok || timed[i].empty()) continue;
       double finalErr = compareImages(m.run.final, ref.run.final).relmse;
       std::printf("| %s | %s | %.2e | %.2e | %s | %s | %s |\n", setting, i == 0 ? "1" : "3", m.relmse, finalErr,
@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
   ladder.insert(ladder.begin() + defaultsRung + 1, kPaperLayout);
   for (const char* name : {"cloud", "volumes"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, w, h, 1, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, w, h, 0, nullptr);
     if (!ref.ok) return 1;
     RunOptions once;
     once.width = w;
@@ -287,7 +287,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::pair<Scene, Image>> refs;
   for (const char* name : {"volumes", "cloud"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, sw, sh, 1, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, sw, sh, 0, nullptr);
     if (!ref.ok) return 1;
     refs.emplace(name, std::make_pair(scene, ref.run.inscatter));
   }

@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
               "error counts.\n", refSpec.c_str());
   std::printf("- times: the method's own passes; the shared Shadow Map, G Buffer, Direct Lighting and Composite "
               "are left out, as in the paper\n\n");
-  Measured ref = measure(scene, refSpec, limits, w, h, 1, nullptr);
+  Measured ref = measure(scene, refSpec, limits, w, h, 0, nullptr);
   if (!ref.ok) return 1;
   const Image& reference = ref.run.inscatter;
 
@@ -274,14 +274,14 @@ int main(int argc, char** argv) {
 
   // ---- 7. The ISM's holes and leaks
   if (!imageDir.empty()) {
-    Measured same = measure(scene, "raymarch:steps=64:sampling=equiangular:vpls=64:sm=512", limits, w, h, 1, nullptr);
+    Measured same = measure(scene, "raymarch:steps=64:sampling=equiangular:vpls=64:sm=512", limits, w, h, 0, nullptr);
     std::printf("\n## The ISM's holes and leaks\n\n");
     std::printf("|L_s| difference between ivsv (64 VPLs) and raymarch on the same 64 VPLs with cube shadow maps, so "
                 "only visibility differs; full scale = 2 %% of the reference's peak.\n\n");
     float peak = 0.0f;
     for (float v : same.run.inscatter.rgb) peak = std::max(peak, v);
     for (const char* pullpush : {"0", "3"}) {
-      Measured m = measure(scene, std::string("ivsv:steps=64:pullpush=") + pullpush, limits, w, h, 1, nullptr);
+      Measured m = measure(scene, std::string("ivsv:steps=64:pullpush=") + pullpush, limits, w, h, 0, nullptr);
       if (!m.ok || !same.ok) continue;
       std::string file = std::string("ism-error-pullpush") + pullpush + ".png";
       writePng8(imageDir + "/" + file, w, h, falseColourError(m.run.inscatter, same.run.inscatter, 0.02f * peak));

@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
               "rm_rmse", "raymarch_ms", "speedup");
   for (const auto& name : scenes) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:sm=1024", limits, w, h, 1, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:sm=1024", limits, w, h, 0, nullptr);
     Measured mm = measure(scene, "minmax:sm=1024", limits, w, h, 3, &ref.run.inscatter);
     minmaxRuns[name] = mm;
     Measured match;

@@ -187,14 +187,14 @@ int main(int argc, char** argv) {
                                                {"res", {"64", "128", "256", "512", "1024"}}}) {
       for (const char* value : knob.values) {
         std::string spec = std::string("slicemap:steps=1024:pack=0:") + knob.key + "=" + value;
-        MethodRun r = benchmarkSpec(foliage, spec, limits, gw, gh, 1);
+        MethodRun r = benchmarkSpec(foliage, spec, limits, gw, gh, 0);
         if (r.status != RunStatus::Success) continue;
         std::printf("| %s | %s | %.3e | %.3e |\n", knob.key, value, compareImages(r.inscatter, gt.inscatter).relmse,
                     compareImages(r.final, gt.final).relmse);
         std::fflush(stdout);
       }
     }
-    MethodRun exactMarch = benchmarkSpec(foliage, "raymarch:steps=1024", limits, gw, gh, 1);
+    MethodRun exactMarch = benchmarkSpec(foliage, "raymarch:steps=1024", limits, gw, gh, 0);
     std::printf("| raymarch (transmittance map) | steps=1024 | %.3e | %.3e |\n",
                 compareImages(exactMarch.inscatter, gt.inscatter).relmse, compareImages(exactMarch.final, gt.final).relmse);
 
@@ -216,7 +216,7 @@ int main(int argc, char** argv) {
     std::printf("share=S: S consecutive samples take their visibility from the column at the group's middle, each at "
                 "its own light depth. L_s relMSE against raymarch steps=4096 (equiangular).\n\n");
     std::printf("| res | share | L_s relMSE | Scattering ms |\n|---|---|---|---|\n");
-    Measured shareRef = measure(foliage, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 1, nullptr);
+    Measured shareRef = measure(foliage, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 0, nullptr);
     for (int res : {128, 512})
       for (int share : {1, 2, 4, 8}) {
         Measured m = measure(foliage, "slicemap:res=" + std::to_string(res) + ":share=" + std::to_string(share), limits, w, h,
@@ -233,7 +233,7 @@ int main(int argc, char** argv) {
     std::printf("| scene | method | L_s relMSE | scattering ms |\n|---|---|---|---|\n");
     for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
       Scene scene = loadScene(name);
-      Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", limits, w / 2, h / 2, 1, nullptr);
+      Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", limits, w / 2, h / 2, 0, nullptr);
       if (!ref.ok) continue;
       for (const auto& info : registeredMethods()) {
         MethodRun r = benchmarkSpec(scene, info.name + ":sm=2048", limits, w / 2, h / 2, frames);
@@ -264,7 +264,7 @@ int main(int argc, char** argv) {
   for (auto* entry : {&foliage, &chestnut}) {
     const Scene& scene = *entry;
     const char* name = entry == &foliage ? "foliage" : "chestnut";
-    Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 1, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 0, nullptr);
     if (!ref.ok) return 1;
     std::map<int, double> errorAt;  // the baseline's error per step count, shared by the settings
     std::vector<const char*> settings = {"steps=32", "steps=64", "", "steps=256", "res=256", "res=256:steps=64",
@@ -272,7 +272,7 @@ int main(int argc, char** argv) {
     if (entry == &chestnut) settings = {""};
     for (const char* params : settings) {
       std::string spec = std::string("slicemap") + (*params ? ":" : "") + params;
-      Measured m = measure(scene, spec, limits, w, h, 1, &ref.run.inscatter);
+      Measured m = measure(scene, spec, limits, w, h, 0, &ref.run.inscatter);
       if (!m.ok) continue;
       auto baseline = [](int steps) { return "raymarch:steps=" + std::to_string(steps) + ":sampling=equiangular"; };
       // The smallest step count reaching slicemap's error (harness/step_search.hpp), up to 4096.
@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
           [&](int n) {
             auto it = errorAt.find(n);
             if (it == errorAt.end()) {
-              Measured b = measure(scene, baseline(n), limits, w, h, 1, &ref.run.inscatter);
+              Measured b = measure(scene, baseline(n), limits, w, h, 0, &ref.run.inscatter);
               it = errorAt.emplace(n, b.ok ? b.relmse : 1e30).first;
             }
             return it->second <= m.relmse;
