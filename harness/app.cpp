@@ -206,19 +206,20 @@ std::pair<double, double> roundRange(const std::vector<TimingStats>& rounds) {
 // Equal quality against brute force: ray marching (the registered reference method) with uniform
 // or equiangular steps, at the row's shadow-map size, bisected on its step count to reach the row's
 // L_s relMSE (RMSE would be decided by the few pixels next to an on-screen light, where uniform steps
-// are worst); and its L_s RMSE at the row's scattering time. Errors are taken against `truth`: the
-// exact-visibility ground truth where it models the scene, since the ray-marched reference shares
-// raymarch's 2x2 PCF shadow-map filter and would favour it. Each baseline point is measured once per
-// run (memoised) with min(frames, 2) frames after one warm-up frame.
+// are worst) to within kStepTolerance; and its L_s RMSE at the row's scattering time. Errors are
+// taken against `truth`: the exact-visibility ground truth where it models the scene, since the
+// ray-marched reference shares raymarch's 2x2 PCF shadow-map filter and would favour it. Each
+// baseline point is rendered once per run (memoised): its error from one frame without a warm-up,
+// its time, where one is needed, from min(frames, 2) frames after one warm-up frame.
 class EqualQuality {
  public:
   struct Point {
-    double lsRmse = 0, lsRelmse = 0, scatterMs = 0;
+    double lsRmse = 0, lsRelmse = 0;
     bool ok = false;
   };
   struct Match {
     int steps = 0;
-    double ms = 0;
+    double ms = 0;  // a baseline not reached: its time at kMaxSteps, a lower bound (reached: timed in rounds)
     bool reached = false, any = false;
   };
   static constexpr int kMaxSteps = 4096;
@@ -226,10 +227,16 @@ class EqualQuality {
   EqualQuality(const RunPlan& plan, const gl::Limits& limits, const MethodRegistry& registry, RunOptions options,
                const Image& truth, Progress& progress)
       : plan_(plan), limits_(limits), registry_(registry), truth_(truth), progress_(progress) {
-    options.frames = std::min(options.frames, 2);
-    options.warmup = 1;
     options.workCounters = false;
-    runner_ = std::make_unique<Runner>(plan.scene, limits, options);
+    RunOptions timed = options;
+    timed.frames = std::min(options.frames, 2);
+    timed.warmup = 1;
+    timeRunner_ = std::make_unique<Runner>(plan.scene, limits, timed);
+    RunOptions once = options;
+    once.frames = 1;
+    once.warmup = 0;
+    once.minTimeMs = 0;
+    errorRunner_ = std::make_unique<Runner>(plan.scene, limits, once);
     baseline_ = referenceMethodFor(plan.effects, registry).name;
   }
   const std::string& baseline() const { return baseline_; }
@@ -239,23 +246,31 @@ class EqualQuality {
 
   Point at(const std::string& sampling, int sm, int steps) {
     auto key = std::make_tuple(sampling, sm, steps);
-    auto it = points_.find(key);
-    if (it != points_.end()) return it->second;
+    auto it = errors_.find(key);
+    if (it != errors_.end()) return it->second;
     progress_.note("equal quality: " + baseline_ + " " + sampling + " steps=" + std::to_string(steps) +
                    " sm=" + std::to_string(sm));
-    ResolvedSpec spec = resolveSpec(this->spec(sampling, sm, steps), limits_, registry_);
-    auto method = createMethod(registry_, baseline_);
-    MethodRun r = runner_->run(*method, spec.params);
+    MethodRun r = run(*errorRunner_, sampling, sm, steps);
     Point p;
     if (r.status == RunStatus::Success) {
       p.ok = true;
       ErrorMetrics e = compareImages(r.inscatter, truth_);
       p.lsRmse = e.rmse;
       p.lsRelmse = e.relmse;
-      p.scatterMs = scatterMs(r);
     }
-    points_[key] = p;
+    errors_[key] = p;
     return p;
+  }
+
+  // The baseline's scattering time at `steps`; negative when it failed.
+  double timeAt(const std::string& sampling, int sm, int steps) {
+    auto key = std::make_tuple(sampling, sm, steps);
+    auto it = times_.find(key);
+    if (it != times_.end()) return it->second;
+    progress_.note("equal quality: " + baseline_ + " " + sampling + " steps=" + std::to_string(steps) +
+                   " sm=" + std::to_string(sm) + ", its time");
+    MethodRun r = run(*timeRunner_, sampling, sm, steps);
+    return times_[key] = r.status == RunStatus::Success ? scatterMs(r) : -1.0;
   }
 
   // Smallest step count whose L_s relMSE is at most `target` (doubling to a bracket, then bisection
@@ -267,37 +282,45 @@ class EqualQuality {
           Point p = at(sampling, sm, n);
           return p.ok && p.lsRelmse <= target;
         },
-        kMaxSteps);
+        kMaxSteps, 16, kStepTolerance);
     if (steps > 0) {
       m.any = m.reached = true;
       m.steps = steps;
-      m.ms = at(sampling, sm, steps).scatterMs;
       return m;
     }
     Point top = at(sampling, sm, kMaxSteps);  // evaluated last by the search
-    if (!top.ok) return m;
+    double topMs = top.ok ? timeAt(sampling, sm, kMaxSteps) : -1.0;
+    if (topMs < 0.0) return m;
     m.any = true;
     m.steps = kMaxSteps;  // not reached: the time is a lower bound
-    m.ms = top.scatterMs;
+    m.ms = topMs;
     return m;
   }
 
   // The baseline's L_s RMSE at the largest step count that runs within `rowMs` (time taken as
   // increasing in the step count).
   double equalTimeLsRmse(const std::string& sampling, int sm, double rowMs) {
-    int over = smallestPassingSteps([&](int n) { return at(sampling, sm, n).scatterMs > rowMs; }, kMaxSteps);
+    int over = smallestPassingSteps([&](int n) { return timeAt(sampling, sm, n) > rowMs; }, kMaxSteps, 16,
+                                    kStepTolerance);
     return at(sampling, sm, over == 0 ? kMaxSteps : std::max(over - 1, 1)).lsRmse;
   }
 
  private:
+  MethodRun run(Runner& runner, const std::string& sampling, int sm, int steps) {
+    ResolvedSpec spec = resolveSpec(this->spec(sampling, sm, steps), limits_, registry_);
+    auto method = createMethod(registry_, baseline_);
+    return runner.run(*method, spec.params);
+  }
+
   const RunPlan& plan_;
   const gl::Limits& limits_;
   const MethodRegistry& registry_;
   const Image& truth_;
   Progress& progress_;
-  std::unique_ptr<Runner> runner_;
+  std::unique_ptr<Runner> timeRunner_, errorRunner_;
   std::string baseline_;
-  std::map<std::tuple<std::string, int, int>, Point> points_;
+  std::map<std::tuple<std::string, int, int>, Point> errors_;
+  std::map<std::tuple<std::string, int, int>, double> times_;
 };
 
 // The rungs of a ladder of `size` that --rungs picks, in ladder order, each once. Throws UsageError
@@ -631,14 +654,16 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
 // of figures measured side by side in every round (a baseline never reached keeps the bisection's
 // time, a lower bound).
 void timeMatchedBaselines(RowMatches& matches, Runner& runner, const MethodRegistry& registry,
-                          const gl::Limits& limits, Progress& progress) {
+                          const gl::Limits& limits, EqualQuality& eq, int sm, Progress& progress) {
   for (auto& b : matches.baselines) {
     if (!b.match.reached) continue;
     progress.note("equal quality: timing " + b.spec);
     ResolvedSpec spec = resolveSpec(b.spec, limits, registry);
     auto method = createMethod(registry, spec.method);
     MethodRun run = runner.run(*method, spec.params);
-    b.roundMs.push_back(run.status == RunStatus::Success ? scatterMs(run) : b.match.ms);
+    // A round whose run failed keeps the rounds aligned with the search's own timing of the match.
+    b.roundMs.push_back(run.status == RunStatus::Success ? scatterMs(run)
+                                                         : std::max(eq.timeAt(b.sampling, sm, b.match.steps), 0.0));
   }
 }
 
@@ -804,7 +829,8 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
         MethodRun later = laterRunner->run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
         if (later.status == RunStatus::Success) timings[j].add(later);
       }
-      if (equalQuality) timeMatchedBaselines(matches[j], *laterRunner, registry, limits, progress);
+      if (equalQuality)
+        timeMatchedBaselines(matches[j], *laterRunner, registry, limits, *equalQuality, first.run.shadowMapSize, progress);
       Measured m = first;
       const RoundTimings& t = timings[j];
       if (m.run.status == RunStatus::Success && t.count() > 1) {

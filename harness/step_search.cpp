@@ -6,7 +6,7 @@
 
 namespace vs {
 
-int smallestPassingSteps(const std::function<bool(int)>& passes, int most, int start) {
+int smallestPassingSteps(const std::function<bool(int)>& passes, int most, int start, double tolerance) {
   if (most < 1) return 0;
   std::map<int, bool> seen;
   auto test = [&](int n) {
@@ -24,7 +24,7 @@ int smallestPassingSteps(const std::function<bool(int)>& passes, int most, int s
     if (test(1)) return 1;
     lo = 1;
   }
-  while (hi - lo > 1) {
+  while (hi - lo > std::max(1, int(tolerance * hi))) {
     int mid = std::clamp(int(std::lround(std::sqrt(double(lo) * double(hi)))), lo + 1, hi - 1);
     if (test(mid)) hi = mid;
     else lo = mid;

@@ -223,7 +223,8 @@ TEST(ReferenceTest, TheFirstMethodDeclaringReferenceParametersServesEveryCaller)
 class MinTimeTest : public GlTest {};
 
 // --min-time: a slow run measures fewer frames, a fast one all of them, and the images read back
-// are those of a full run (the measured frames are the run's last, jitter included).
+// are those of a full run (the measured frames are the run's last, so an image that depended on
+// the frame index would not change either).
 TEST_F(MinTimeTest, SlowRunsMeasureFewerFramesWithTheSameImages) {
   Scene scene = loadScene("spheres");
   RunOptions full;

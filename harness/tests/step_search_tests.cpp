@@ -51,3 +51,20 @@ TEST(StepSearchTest, NothingPassingGivesZeroAfterTryingTheMost) {
   EXPECT_EQ(*probe.evaluated.rbegin(), 4096);
   EXPECT_EQ(vs::smallestPassingSteps([](int) { return true; }, 0), 0);
 }
+
+TEST(StepSearchTest, ToleranceStopsWithinItsFractionAboveTheAnswerAndSavesEvaluations) {
+  for (int answer : {1, 5, 40, 64, 100, 700, 1160, 3000}) {
+    Probe exact{answer, {}}, loose{answer, {}};
+    ASSERT_EQ(vs::smallestPassingSteps([&](int n) { return exact(n); }, 4096), answer);
+    int found = vs::smallestPassingSteps([&](int n) { return loose(n); }, 4096, 16, 1.0 / 64);
+    EXPECT_GE(found, answer);  // it passes
+    EXPECT_LE(found - answer, std::max(1, found / 64) - 1) << "answer " << answer;
+    if (answer <= 64) {
+      EXPECT_EQ(found, answer);  // integer precision below 1/tolerance
+    }
+    EXPECT_LE(loose.evaluated.size(), exact.evaluated.size()) << "answer " << answer;
+    if (answer >= 700) {
+      EXPECT_LT(loose.evaluated.size(), exact.evaluated.size()) << "answer " << answer;
+    }
+  }
+}
