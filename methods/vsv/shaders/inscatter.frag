@@ -3,9 +3,9 @@
 // 128-bit texel per layer of the scanned VSV. A point at light angle φ on the ray at eye angle α
 // lies at s = D sin φ / sin(α + φ), and ds/dφ = D sin α / sin²(α + φ), which cancels the light's
 // 1/r² (r = D sin α / sin(α + φ)), so the integrand is smooth in φ. Without a light texture it is
-// taken as linear over groups of VSV_GROUP bins, evaluated at the groups' ends, and the lit bins of
-// a group are counted with bitCount (their number and their first moment): one light evaluation
-// per group instead of one per bin. With a light texture each step spans `coarse` bins (coarse
+// taken as linear over groups of VSV_GROUP bins, evaluated at two Gauss points per group, and the
+// lit bins of a group are counted with bitCount (their number and their first moment): two light
+// evaluations per group instead of one per bin, and only for the groups the ray reaches. With a light texture each step spans `coarse` bins (coarse
 // stepping) and reads its bins one by one. Directional lights: see parallelInscatter.
 #include "common.glsl"
 #include "epipolar.glsl"
@@ -90,10 +90,13 @@ vec3 pointIntegrand(float phi, vec3 eye, vec3 dir, float dist, float alpha, floa
   return exp(-sigmaT() * s) * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x) * jacobian;
 }
 
-// The lit bins of group q of word k of a layer's texel, among the first `fullBins` bins.
-uint litBits(uvec4 bits, int k, int q, int first, int fullBins) {
+#define kGroupsPerLayer (128 / VSV_GROUP)
+// The lit bins of group g of a layer's texel (bin `first` of the whole range), among the first
+// `fullBins` bins.
+uint litBits(uvec4 bits, int g, int first, int fullBins) {
   int inGroup = clamp(fullBins - first, 0, VSV_GROUP);
-  return ~bitfieldExtract(bits[k], VSV_GROUP * q, VSV_GROUP) & bitfieldExtract(0xFFFFFFFFu, 0, inGroup);
+  int bit = VSV_GROUP * g;
+  return ~bitfieldExtract(bits[bit >> 5], bit & 31, VSV_GROUP) & bitfieldExtract(0xFFFFFFFFu, 0, inGroup);
 }
 
 // Point and spot lights: ∫_0^phiEnd integrand × V dφ over the bins of column (col, row). Over each
@@ -108,29 +111,30 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
   float binsCovered = min(phiEnd / binWidth, float(nPhi()));
   int fullBins = int(binsCovered);
   vec3 sum = vec3(0.0);
-  int layers = min((fullBins + 127) >> 7, vsv.grid.w);
+  // Only the groups the ray reaches: a loop bound is the one place llvmpipe skips work (it runs
+  // a loop while any pixel of the batch needs it), and on any GPU this is work the ray never uses.
+  int groups = min((fullBins + VSV_GROUP - 1) / VSV_GROUP, nPhi() / VSV_GROUP);
+  int layers = (groups * VSV_GROUP + 127) >> 7;
   workBins += uint(fullBins);
   workFetches += uint(layers);
-  workEvals += uint(layers * 2 * 4 * (32 / VSV_GROUP));
+  workEvals += uint(2 * groups);
   for (int layer = 0; layer < layers; ++layer) {
     uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
-    for (int k = 0; k < 4; ++k) {
-      for (int q = 0; q < 32 / VSV_GROUP; ++q) {
-        int first = 128 * layer + 32 * k + VSV_GROUP * q;
-        uint lit = litBits(bits, k, q, first, fullBins);
-        float n0 = float(bitCount(lit)), n1 = 0.0;
-        for (int b = 0; b < kGroupLog2; ++b) n1 += float(bitCount(lit & kIndexBit[b]) << b);
-        float phiA = float(first) * binWidth;
-        float phiB = min(float(first + VSV_GROUP) * binWidth, phiEnd);
-        float mid = 0.5 * (phiA + phiB), offset = max(phiB - phiA, 0.0) * kGauss;
-        vec3 g1 = pointIntegrand(mid - offset, eye, dir, dist, alpha, D, DsinAlpha);
-        vec3 g2 = pointIntegrand(mid + offset, eye, dir, dist, alpha, D, DsinAlpha);
-        vec3 slope = (g2 - g1) / max(2.0 * offset, 1e-30);
-        // Sum over lit bins j of g(φ_A + (j + 1/2) w) w with g linear through the two points (the
-        // line can dip below 0 at a group's end where g is steep; g itself cannot).
-        vec3 groupSum = max(binWidth * (n0 * 0.5 * (g1 + g2) + slope * (binWidth * (n1 + 0.5 * n0) - n0 * (mid - phiA))), vec3(0.0));
-        if (first < fullBins) sum += groupSum;
-      }
+    int groupsHere = min(groups - layer * kGroupsPerLayer, kGroupsPerLayer);
+    for (int g = 0; g < groupsHere; ++g) {
+      int first = 128 * layer + VSV_GROUP * g;
+      uint lit = litBits(bits, g, first, fullBins);
+      float n0 = float(bitCount(lit)), n1 = 0.0;
+      for (int b = 0; b < kGroupLog2; ++b) n1 += float(bitCount(lit & kIndexBit[b]) << b);
+      float phiA = float(first) * binWidth;
+      float phiB = min(float(first + VSV_GROUP) * binWidth, phiEnd);
+      float mid = 0.5 * (phiA + phiB), offset = max(phiB - phiA, 0.0) * kGauss;
+      vec3 g1 = pointIntegrand(mid - offset, eye, dir, dist, alpha, D, DsinAlpha);
+      vec3 g2 = pointIntegrand(mid + offset, eye, dir, dist, alpha, D, DsinAlpha);
+      vec3 slope = (g2 - g1) / max(2.0 * offset, 1e-30);
+      // Sum over lit bins j of g(φ_A + (j + 1/2) w) w with g linear through the two points (the
+      // line can dip below 0 at a group's end where g is steep; g itself cannot).
+      sum += max(binWidth * (n0 * 0.5 * (g1 + g2) + slope * (binWidth * (n1 + 0.5 * n0) - n0 * (mid - phiA))), vec3(0.0));
     }
   }
   float partial = binsCovered - float(fullBins);
@@ -173,7 +177,7 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
     for (int k = 0; k < 4; ++k) {
       for (int q = 0; q < 32 / VSV_GROUP; ++q) {
         int first = 128 * layer + 32 * k + VSV_GROUP * q;
-        uint lit = litBits(bits, k, q, first, fullBins);
+        uint lit = litBits(bits, k * (32 / VSV_GROUP) + q, first, fullBins);
         float series = 0.0, power = 1.0;
         for (int j = 0; j < VSV_GROUP; ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
         sum += exp(-sigma * float(first) * binLength) * series * perBin;

@@ -385,7 +385,7 @@ TEST_F(VsvTest, FusedVoxelizerEqualsPointsThenScan) {
 
 TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
   // Without shadow casters no voxel is in shadow; with them some are, and Compute L_s evaluates the
-  // light twice per group of 16 bins it visits.
+  // light twice per group of 16 bins it reaches.
   Scene scene = loadScene("spheres");
   RunOptions options;
   options.width = 64;
@@ -407,6 +407,9 @@ TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
   EXPECT_GE(c.at("vsv_bins_max"), c.at("vsv_bins_mean"));
   EXPECT_LE(c.at("vsv_bins_max"), 256.0 + 1.0);  // nPhi, and the bin the ray's end cuts
   EXPECT_GE(c.at("vsv_light_evals_mean"), c.at("vsv_bins_mean") / 8.0);
+  // Only the groups a ray reaches are evaluated: two per group of 16 of its bins (the last group
+  // partly filled), one for the bin its end cuts and one for the tail beyond φ_max.
+  EXPECT_LE(c.at("vsv_light_evals_mean"), c.at("vsv_bins_mean") / 8.0 + 2.0 + 2.0);
   EXPECT_LE(c.at("vsv_fetches_max"), 2.0 + 2.0);  // 256 bins: two 128-bit layers, the cut bin, the tail
   std::printf("spheres 64x48: bins per pixel %.1f (max %.0f), light evaluations %.1f, fetches %.2f; %.0f voxels in shadow (%.1f%%)\n",
               c.at("vsv_bins_mean"), c.at("vsv_bins_max"), c.at("vsv_light_evals_mean"), c.at("vsv_fetches_mean"),
