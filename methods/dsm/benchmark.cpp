@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::printf("# dsm: deep shadow maps, measured\n\n");
-  std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 17 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 8 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");

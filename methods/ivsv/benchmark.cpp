@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
                                     : "raymarch:steps=512:sampling=equiangular:light_samples=256:light_sm=256:light_shift=1";
   std::printf("# ivsv: imperfect voxelized shadow volumes, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce ivsv` (build/methods/ivsv/ivsv_benchmark --images results/ivsv > "
-              "results/ivsv/README.md, about 4 minutes on 2 cores).\n\n");
+              "results/ivsv/README.md, about 3 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());

@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
-  std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 8 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 4 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"
