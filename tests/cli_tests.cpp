@@ -188,6 +188,26 @@ TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   EXPECT_EQ(loadCsv(out + "/runs.csv", runsColumns(), kRunsKeyColumns).rows().size(), runs.rows().size());
 }
 
+// scripts/shader-ab runs the built-in shaders (A) and a folder's (B) in turn on the same binary.
+TEST(CliTest, ShaderAbRunsTheBuiltInShadersAndTheFolders) {
+  std::string dir = makeTempDir("shader-ab");
+  std::string script = std::string(VS_SOURCE_DIR) + "/scripts/shader-ab";
+  std::string env = "BUILD_DIR=" + fs::path(vshadowPath()).parent_path().string() +
+                    " SIZE=32x24 ROUNDS=1 FRAMES=1 PASSES='Compute L_s' ";
+  std::string cmd = env + script + " " + VS_SOURCE_DIR + " room vsv:alpha=64:theta=128:phi=128 > " + dir +
+                    "/ab.txt 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/ab.txt");
+  std::string out = readFile(dir + "/ab.txt");
+  EXPECT_NE(out.find("A | Compute L_s"), std::string::npos) << out;
+  EXPECT_NE(out.find("B | Compute L_s"), std::string::npos) << out;
+  // B really reads the folder: a shader that does not compile there fails the run, naming its file.
+  fs::create_directories(dir + "/broken/methods/vsv/shaders");
+  writeFile(dir + "/broken/methods/vsv/shaders/inscatter.frag", "#version 450 core\nvoid main() { nonsense; }\n");
+  cmd = env + script + " " + dir + "/broken room vsv:alpha=64:theta=128:phi=128 > " + dir + "/broken.txt 2>&1";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  EXPECT_NE(readFile(dir + "/broken.txt").find("inscatter.frag"), std::string::npos) << readFile(dir + "/broken.txt");
+}
+
 TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
   std::string dir = makeTempDir("killed");
   std::string out = dir + "/out";
