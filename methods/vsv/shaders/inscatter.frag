@@ -5,8 +5,9 @@
 // 1/r² (r = D sin α / sin(α + φ)), so the integrand is smooth in φ. Without a light texture it is
 // taken as linear over groups of VSV_GROUP bins, evaluated at two Gauss points per group, and the
 // lit bins of a group are counted with bitCount (their number and their first moment): two light
-// evaluations per group instead of one per bin, and only for the groups the ray reaches. With a light texture each step spans `coarse` bins (coarse
-// stepping) and reads its bins one by one. Directional lights: see parallelInscatter.
+// evaluations per group instead of one per bin, and only for the groups the ray reaches. With a
+// light texture each step spans `coarse` bins (coarse stepping) and reads its bins one by one.
+// Directional lights: see parallelInscatter.
 #include "common.glsl"
 #include "epipolar.glsl"
 #include "work_counters.glsl"
@@ -174,14 +175,12 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
   workFetches += uint(layers);
   for (int layer = 0; layer < layers; ++layer) {
     uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
-    for (int k = 0; k < 4; ++k) {
-      for (int q = 0; q < 32 / VSV_GROUP; ++q) {
-        int first = 128 * layer + 32 * k + VSV_GROUP * q;
-        uint lit = litBits(bits, k * (32 / VSV_GROUP) + q, first, fullBins);
-        float series = 0.0, power = 1.0;
-        for (int j = 0; j < VSV_GROUP; ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
-        sum += exp(-sigma * float(first) * binLength) * series * perBin;
-      }
+    for (int g = 0; g < kGroupsPerLayer; ++g) {
+      int first = 128 * layer + VSV_GROUP * g;
+      uint lit = litBits(bits, g, first, fullBins);
+      float series = 0.0, power = 1.0;
+      for (int j = 0; j < VSV_GROUP; ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
+      sum += exp(-sigma * float(first) * binLength) * series * perBin;
     }
   }
   float sCut = float(fullBins) * binLength;  // the rest of the ray from here
