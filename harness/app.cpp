@@ -24,6 +24,7 @@
 #include "results.hpp"
 #include "runner.hpp"
 #include "step_search.hpp"
+#include "thread_pinning.hpp"
 
 namespace vs {
 
@@ -434,7 +435,7 @@ static json buildInfo() {
 }
 
 json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& info, const TimerCalibration& calibration,
-              const std::string& date) {
+              const ThreadPinning& pinning, const std::string& date) {
   const char* lpThreads = std::getenv("LP_NUM_THREADS");
   return {
       {"command_line", req.commandLine},
@@ -445,6 +446,7 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
       {"egl", {{"vendor", info.eglVendor}, {"version", info.eglVersion}, {"platform", info.platform}}},
       {"cpu", {{"model", cpuModel()}, {"hardware_threads", std::thread::hardware_concurrency()}}},
       {"lp_num_threads", lpThreads ? json(lpThreads) : json(nullptr)},
+      {"thread_pinning", toJson(pinning)},
       {"width", plan.width},
       {"height", plan.height},
       {"frames", req.frames},
@@ -766,8 +768,10 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
     calibration.reason = "chosen with --timer";
   }
   const std::string timer = timerStrategyName(calibration.chosen);
+  // After the calibration's draw and dispatch, before any thread of ours (the ground truth's).
+  const ThreadPinning pinning = pinDriverThreads(req.pinThreads, calibration.chosen == TimerStrategy::WallClock);
   const std::string date = isoDateUtc();
-  json meta = metaJson(req, plan, info, calibration, date);
+  json meta = metaJson(req, plan, info, calibration, pinning, date);
   files.writeMeta(meta);
 
   RunOptions options;

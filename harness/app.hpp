@@ -18,6 +18,7 @@ struct RunRequest {
   std::string cacheDir;              // empty: defaultCacheDir()
   std::string referenceSpec;         // empty: the registered reference method; "exact": ground truth
   std::string timer = "auto";        // auto | gpu | wall
+  std::string pinThreads = "auto";   // auto | on | off: the GL driver's threads, one per CPU (thread_pinning.hpp)
   int frames = 20, warmup = 3;
   // --min-time: > 0, a run measures as many of its frames as fill this many ms at its warm-up
   // frame's time (at least one; RunOptions::minTimeMs).

@@ -37,6 +37,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 100));
     cmd->add_option("--seed", r.seed, "seed for jitter and random scenes")->capture_default_str()->check(CLI::Range(0LL, 4294967295LL));
     cmd->add_option("--timer", r.timer, "timing strategy")->capture_default_str()->check(CLI::IsMember({"auto", "gpu", "wall"}));
+    cmd->add_option("--pin-threads", r.pinThreads,
+                    "pin the GL driver's worker threads one per CPU (auto: when passes are timed by the wall clock, "
+                    "i.e. the driver is a CPU rasterizer whose idle workers the scheduler would otherwise place anew "
+                    "for every pass)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "on", "off"}));
     cmd->add_option("--cache", r.cacheDir, "reference cache folder (default $VSHADOW_CACHE or ~/.cache/vshadow)");
     cmd->add_option("--reference", r.referenceSpec,
                     "method spec of the reference (default: the ray-marched reference), or 'exact' for the "

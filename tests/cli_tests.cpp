@@ -247,6 +247,30 @@ TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
   EXPECT_EQ(meta["status"], "running");
 }
 
+TEST(CliTest, MetaRecordsWhetherTheDriverThreadsWerePinned) {
+  std::string dir = makeTempDir("pin");
+  for (const char* mode : {"on", "off"}) {
+    std::string out = dir + "/" + mode;
+    CommandResult r = runVshadow({"run", "--scene", "spheres", "--size", "16x12", "--frames", "1", "--warmup", "0",
+                                  "--method", "raymarch:steps=4", "--no-reference", "--no-images", "--pin-threads",
+                                  mode, "--out", out});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto pinning = nlohmann::json::parse(readFile(out + "/meta.json"))["thread_pinning"];
+    EXPECT_EQ(pinning["mode"], mode);
+    if (std::string(mode) == "off") {
+      EXPECT_EQ(pinning["applied"], false);
+      EXPECT_TRUE(pinning["threads"].empty());
+    } else {
+      EXPECT_EQ(pinning["applied"], !pinning["threads"].empty()) << pinning.dump();
+    }
+  }
+  CommandResult bad = runVshadow({"run", "--scene", "spheres", "--method", "raymarch", "--pin-threads", "always",
+                                  "--out", dir + "/bad"});
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_EQ(nonEmptyLines(bad.err), 1) << bad.err;
+  EXPECT_FALSE(fs::exists(dir + "/bad"));
+}
+
 TEST(CliTest, RoundsInterleaveTheRowsAndShowTheirSpread) {
   std::string dir = makeTempDir("rounds");
   std::string out = dir + "/out";

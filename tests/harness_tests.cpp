@@ -9,7 +9,12 @@
 #include "harness/effects.hpp"
 #include "harness/progress.hpp"
 #include "harness/results.hpp"
+#include "harness/thread_pinning.hpp"
 #include "harness/timer.hpp"
+
+#ifdef __linux__
+#include <sched.h>
+#endif
 
 namespace vs::testing {
 namespace {
@@ -102,6 +107,48 @@ TEST_F(TimerTest, CalibrationPicksWallClockWhereQueriesDisagree) {
     EXPECT_EQ(c.chosen, TimerStrategy::WallClock);
   }
 }
+
+#ifdef __linux__
+// The CPUs a thread may run on.
+std::vector<int> affinityOf(int tid) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  std::vector<int> cpus;
+  if (sched_getaffinity(pid_t(tid), sizeof set, &set) != 0) return cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &set)) cpus.push_back(c);
+  return cpus;
+}
+
+TEST_F(TimerTest, DriverThreadsArePinnedOnePerCpuAndThreadsStartedLaterStayFree) {
+  calibrateTimer();  // a draw and a dispatch: the driver's workers exist
+  const std::vector<int> mine = affinityOf(0);
+  if (mine.size() < 2) GTEST_SKIP() << "one CPU: nothing to spread";
+  EXPECT_FALSE(pinDriverThreads("off", true).applied);
+  EXPECT_FALSE(pinDriverThreads("auto", false).applied);  // timestamps are used: no glFinish brackets
+  const size_t threadsBefore = otherThreads().size();
+  ThreadPinning p = pinDriverThreads("on", true);
+  std::printf("%s\n", describe(p).c_str());
+  if (threadsBefore == 0) {  // a driver without threads of its own in this process
+    EXPECT_FALSE(p.applied);
+    return;
+  }
+  ASSERT_TRUE(p.applied);
+  ASSERT_EQ(p.threads.size(), threadsBefore);
+  std::vector<int> used;
+  for (size_t k = 0; k < p.threads.size(); ++k) {
+    EXPECT_EQ(affinityOf(p.threads[k].tid), std::vector<int>{p.threads[k].cpu}) << p.threads[k].name;
+    EXPECT_EQ(p.threads[k].cpu, mine[k % mine.size()]);  // consecutive threads on distinct CPUs
+  }
+  EXPECT_EQ(affinityOf(0), mine);  // the caller keeps its CPUs...
+  std::vector<int> later;
+  std::thread([&] { later = affinityOf(0); }).join();
+  EXPECT_EQ(later, mine);  // ...and so do the threads it starts (the ground truth's)
+  nlohmann::json j = toJson(p);
+  EXPECT_EQ(j["applied"], true);
+  EXPECT_EQ(j["threads"].size(), p.threads.size());
+}
+#endif
 
 TEST(ShaderSourceTest, IncludesAreExpandedAndEveryLineKnowsItsFile) {
   gl::Preprocessed pre = gl::preprocess("harness/shaders/direct.frag", "#define X 1\n");

@@ -17,6 +17,7 @@
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/vpl.hpp"
+#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -82,6 +83,8 @@ int main(int argc, char** argv) {
   const int w = quick ? 48 : 96, h = quick ? 36 : 72, frames = quick ? 1 : 2;
   const int tableVpls = quick ? 16 : 256;
   GlContext context(false);
+  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
+  const std::string pinning = describe(pinDriverThreads("on", true));
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
   Scene scene = loadScene("arealight");
@@ -92,6 +95,7 @@ int main(int argc, char** argv) {
   std::printf("Regenerate: `scripts/reproduce ivsv` (build/methods/ivsv/ivsv_benchmark --images results/ivsv > "
               "results/ivsv/README.md, about 3 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
+  std::printf("- threads: %s\n", pinning.c_str());
   std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: `%s`. Its light samples are not the VPLs of any row, so each row's light-sampling "

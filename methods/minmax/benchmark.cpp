@@ -11,6 +11,7 @@
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
+#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -51,9 +52,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   GlContext context(false);
+  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
+  const std::string pinning = describe(pinDriverThreads("on", true));
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
   std::printf("provenance: %s\n", provenanceLine(context.info()).c_str());
+  std::printf("threads: %s\n", pinning.c_str());
   std::printf("image %dx%d, wall-clock pass timer (glFinish-bracketed), %s\n", w, h, benchmarkFramesNote(3).c_str());
   std::printf("reference: raymarch steps=4096 at the same shadow map; scattering time = the method's own passes\n\n");
 

@@ -21,6 +21,7 @@
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/step_search.hpp"
+#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -101,11 +102,14 @@ int main(int argc, char** argv) {
   int side = quick ? 128 : 512;
   int frames = quick ? 1 : 3;
   GlContext context(false);
+  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
+  const std::string pinning = describe(pinDriverThreads("on", true));
   gl::installDebugOutput(false);
   gl::Limits limits = gl::queryLimits();
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 4 minutes on 2 cores).\n\n");
   std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
+  std::printf("- threads: %s\n", pinning.c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"
               "  the shared passes (Shadow Map, Transmittance Map, G Buffer, Direct Lighting, Composite) and slicemap's\n"

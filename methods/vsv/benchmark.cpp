@@ -11,6 +11,7 @@
 #include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
+#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 #include "scenes/scene.hpp"
 
@@ -22,9 +23,11 @@ int main(int argc, char** argv) {
   int width = 256, height = 192;
   if (argc > 1) std::sscanf(argv[1], "%dx%d", &width, &height);
   GlContext context(false);
+  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
+  const std::string pinning = describe(pinDriverThreads("on", true));
   gl::Limits limits = gl::queryLimits();
-  std::printf("provenance: %s\n%dx%d, %s\n", provenanceLine(context.info()).c_str(), width, height,
-              benchmarkFramesNote(3).c_str());
+  std::printf("provenance: %s\nthreads: %s\n%dx%d, %s\n", provenanceLine(context.info()).c_str(), pinning.c_str(),
+              width, height, benchmarkFramesNote(3).c_str());
   RunOptions options;
   options.width = width;
   options.height = height;
