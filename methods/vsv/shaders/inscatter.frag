@@ -70,14 +70,15 @@ vec3 parallelInscatter(vec3 dir, float dist, float alpha, int col, int row, floa
   return sum * sigmaS() * phase(dot(u.lightDir.xyz, -dir));
 }
 
-// ---- Untextured lights: groups of VSV_GROUP bins (8, 16 or 32) within one 32-bit word.
+// ---- Untextured lights: groups of VSV_GROUP bins (8, 16, 32, 64 or 128; the method's `group`).
 #ifndef VSV_GROUP
 #define VSV_GROUP 16
 #endif
-// Bit k of a bin's index within its group, as masks over the group's bits: the first moment of the
-// lit bins is sum_k 2^k bitCount(lit & kIndexBit[k]).
+// Bit k of a bin's index within its 32-bit word, as masks over the word's bits: the first moment of
+// the lit bins of a word is sum_k 2^k bitCount(lit & kIndexBit[k]).
 const uint kIndexBit[5] = uint[5](0xAAAAAAAAu, 0xCCCCCCCCu, 0xF0F0F0F0u, 0xFF00FF00u, 0xFFFF0000u);
-#define kGroupLog2 (VSV_GROUP == 32 ? 5 : (VSV_GROUP == 16 ? 4 : 3))
+#define kGroupLog2 (VSV_GROUP >= 32 ? 5 : (VSV_GROUP == 16 ? 4 : 3))
+#define kWordsPerGroup (VSV_GROUP >= 32 ? VSV_GROUP / 32 : 1)
 
 // Point and spot lights: the integrand per unit φ (σs left out). ds/dφ = r² / (D sin α) with r
 // the distance from the grid's light, taken from the point itself so that it stays consistent
@@ -92,12 +93,25 @@ vec3 pointIntegrand(float phi, vec3 eye, vec3 dir, float dist, float alpha, floa
 }
 
 #define kGroupsPerLayer (128 / VSV_GROUP)
-// The lit bins of group g of a layer's texel (bin `first` of the whole range), among the first
-// `fullBins` bins.
-uint litBits(uvec4 bits, int g, int first, int fullBins) {
-  int inGroup = clamp(fullBins - first, 0, VSV_GROUP);
-  int bit = VSV_GROUP * g;
-  return ~bitfieldExtract(bits[bit >> 5], bit & 31, VSV_GROUP) & bitfieldExtract(0xFFFFFFFFu, 0, inGroup);
+// The lit bins among word w of group g of a layer's texel (bin `first` of the whole range is the
+// group's first), among the first `fullBins` bins; bit j is the group's bin 32 w + j.
+uint litBits(uvec4 bits, int g, int w, int first, int fullBins) {
+  const int kWordBits = min(VSV_GROUP, 32);
+  int inWord = clamp(fullBins - first - 32 * w, 0, kWordBits);
+  int bit = VSV_GROUP * g + 32 * w;
+  return ~bitfieldExtract(bits[bit >> 5], bit & 31, kWordBits) & bitfieldExtract(0xFFFFFFFFu, 0, inWord);
+}
+// A group's lit bins: their count n0 and first moment n1 (sum of their indices in the group).
+void litMoments(uvec4 bits, int g, int first, int fullBins, out float n0, out float n1) {
+  n0 = 0.0;
+  n1 = 0.0;
+  for (int w = 0; w < kWordsPerGroup; ++w) {
+    uint lit = litBits(bits, g, w, first, fullBins);
+    float count = float(bitCount(lit));
+    n0 += count;
+    n1 += 32.0 * float(w) * count;
+    for (int b = 0; b < kGroupLog2; ++b) n1 += float(bitCount(lit & kIndexBit[b]) << b);
+  }
 }
 
 // Point and spot lights: ∫_0^phiEnd integrand × V dφ over the bins of column (col, row). Over each
@@ -124,9 +138,8 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
     int groupsHere = min(groups - layer * kGroupsPerLayer, kGroupsPerLayer);
     for (int g = 0; g < groupsHere; ++g) {
       int first = 128 * layer + VSV_GROUP * g;
-      uint lit = litBits(bits, g, first, fullBins);
-      float n0 = float(bitCount(lit)), n1 = 0.0;
-      for (int b = 0; b < kGroupLog2; ++b) n1 += float(bitCount(lit & kIndexBit[b]) << b);
+      float n0, n1;
+      litMoments(bits, g, first, fullBins, n0, n1);
       float phiA = float(first) * binWidth;
       float phiB = min(float(first + VSV_GROUP) * binWidth, phiEnd);
       float mid = 0.5 * (phiA + phiB), offset = max(phiB - phiA, 0.0) * kGauss;
@@ -177,9 +190,11 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
     uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
     for (int g = 0; g < kGroupsPerLayer; ++g) {
       int first = 128 * layer + VSV_GROUP * g;
-      uint lit = litBits(bits, g, first, fullBins);
       float series = 0.0, power = 1.0;
-      for (int j = 0; j < VSV_GROUP; ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
+      for (int w = 0; w < kWordsPerGroup; ++w) {
+        uint lit = litBits(bits, g, w, first, fullBins);
+        for (int j = 0; j < min(VSV_GROUP, 32); ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
+      }
       sum += exp(-sigma * float(first) * binLength) * series * perBin;
     }
   }
