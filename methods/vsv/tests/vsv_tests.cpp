@@ -385,7 +385,7 @@ TEST_F(VsvTest, FusedVoxelizerEqualsPointsThenScan) {
 
 TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
   // Without shadow casters no voxel is in shadow; with them some are, and Compute L_s evaluates the
-  // light twice per group of 16 bins it reaches.
+  // light twice per group of 16 bins it reaches (group=16; auto takes 64 for this point light).
   Scene scene = loadScene("spheres");
   RunOptions options;
   options.width = 64;
@@ -393,9 +393,9 @@ TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
   options.frames = 1;
   options.warmup = 0;
   options.workCounters = true;
-  MethodRun shadowed = renderScene(scene, "vsv:sm=512", options);
+  MethodRun shadowed = renderScene(scene, "vsv:sm=512:group=16", options);
   options.shadowCasters = false;
-  MethodRun open = renderScene(scene, "vsv:sm=512", options);
+  MethodRun open = renderScene(scene, "vsv:sm=512:group=16", options);
   ASSERT_EQ(open.status, RunStatus::Success) << open.reason;
   ASSERT_EQ(shadowed.status, RunStatus::Success) << shadowed.reason;
   EXPECT_EQ(open.stats.at("vsv_shadowed_voxels"), 0.0);
@@ -414,6 +414,36 @@ TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
   std::printf("spheres 64x48: bins per pixel %.1f (max %.0f), light evaluations %.1f, fetches %.2f; %.0f voxels in shadow (%.1f%%)\n",
               c.at("vsv_bins_mean"), c.at("vsv_bins_max"), c.at("vsv_light_evals_mean"), c.at("vsv_fetches_mean"),
               c.at("vsv_shadowed_voxels"), 100.0 * c.at("vsv_shadowed_voxel_fraction"));
+}
+
+// Compute L_s's groups: over a point light's smooth integrand a 64-bin line costs a quarter of the
+// light evaluations of 16 bins at nearly the same error; auto keeps 16 for a spot light's cone.
+TEST_F(VsvTest, LongerGroupsSpendFewerEvaluationsWhereTheIntegrandIsSmooth) {
+  RunOptions options;
+  options.width = 64;
+  options.height = 48;
+  options.frames = 1;
+  options.warmup = 0;
+  options.workCounters = true;
+  auto evals = [](const MethodRun& r) { return r.stats.at("vsv_light_evals_mean") / r.stats.at("vsv_bins_mean"); };
+  Scene room = loadScene("room");
+  MethodRun ref = renderScene(room, "raymarch:steps=2048:sm=512", options);
+  MethodRun g16 = renderScene(room, "vsv:sm=512:group=16", options);
+  MethodRun g64 = renderScene(room, "vsv:sm=512:group=64", options);
+  MethodRun autoGroup = renderScene(room, "vsv:sm=512", options);
+  for (const MethodRun* r : {&ref, &g16, &g64, &autoGroup}) ASSERT_EQ(r->status, RunStatus::Success) << r->reason;
+  double e16 = compareLs(g16.inscatter, ref.inscatter).relRmse, e64 = compareLs(g64.inscatter, ref.inscatter).relRmse;
+  std::printf("room 64x48: relative L_s RMSE group=16 %.5f, group=64 %.5f; evaluations per bin %.3f, %.3f\n", e16, e64,
+              evals(g16), evals(g64));
+  EXPECT_LT(e64, e16 * 1.1 + 1e-3);
+  EXPECT_LT(evals(g64), 0.5 * evals(g16));
+  EXPECT_EQ(autoGroup.inscatter.rgb, g64.inscatter.rgb);  // auto: 64 for a point light
+  // A spot light's cone edge is a kink: auto keeps 16-bin groups.
+  Scene fence = loadScene("fence");
+  MethodRun spot16 = renderScene(fence, "vsv:sm=512:group=16", options);
+  MethodRun spotAuto = renderScene(fence, "vsv:sm=512", options);
+  ASSERT_EQ(spotAuto.status, RunStatus::Success) << spotAuto.reason;
+  EXPECT_EQ(spotAuto.inscatter.rgb, spot16.inscatter.rgb);
 }
 
 }  // namespace
