@@ -383,16 +383,22 @@ TEST_F(VsvTest, FusedVoxelizerEqualsPointsThenScan) {
   }
 }
 
-TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
-  // Without shadow casters no voxel is in shadow; with them some are, and Compute L_s evaluates the
-  // light twice per group of 16 bins it reaches (group=16; auto takes 64 for this point light).
-  Scene scene = loadScene("spheres");
+// One 64x48 frame with Compute L_s's work counters.
+RunOptions countingOptions() {
   RunOptions options;
   options.width = 64;
   options.height = 48;
   options.frames = 1;
   options.warmup = 0;
   options.workCounters = true;
+  return options;
+}
+
+TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
+  // Without shadow casters no voxel is in shadow; with them some are, and Compute L_s evaluates the
+  // light twice per group of 16 bins it reaches (group=16; auto takes 64 for this point light).
+  Scene scene = loadScene("spheres");
+  RunOptions options = countingOptions();
   MethodRun shadowed = renderScene(scene, "vsv:sm=512:group=16", options);
   options.shadowCasters = false;
   MethodRun open = renderScene(scene, "vsv:sm=512:group=16", options);
@@ -419,12 +425,7 @@ TEST_F(VsvTest, WorkCountersCountBinsEvaluationsAndShadowedVoxels) {
 // Compute L_s's groups: over a point light's smooth integrand a 64-bin line costs a quarter of the
 // light evaluations of 16 bins at nearly the same error; auto keeps 16 for a spot light's cone.
 TEST_F(VsvTest, LongerGroupsSpendFewerEvaluationsWhereTheIntegrandIsSmooth) {
-  RunOptions options;
-  options.width = 64;
-  options.height = 48;
-  options.frames = 1;
-  options.warmup = 0;
-  options.workCounters = true;
+  RunOptions options = countingOptions();
   auto evals = [](const MethodRun& r) { return r.stats.at("vsv_light_evals_mean") / r.stats.at("vsv_bins_mean"); };
   Scene room = loadScene("room");
   MethodRun ref = renderScene(room, "raymarch:steps=2048:sm=512", options);
