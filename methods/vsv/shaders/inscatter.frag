@@ -114,15 +114,18 @@ void litMoments(uvec4 bits, int g, int first, int fullBins, out float n0, out fl
   }
 }
 
-// Point and spot lights: ∫_0^phiEnd integrand × V dφ over the bins of column (col, row). Over each
+// Point and spot lights: ∫_0^rayEnd integrand × V dφ over the bins of column (col, row). Over each
 // group the integrand is taken as linear through its values at the group's two Gauss points
 // (never at φ = 0, where the light may sit at the eye, nor at the ray's clipped end); a group's
-// lit bins enter through their count n0 and first moment n1. The bin phiEnd cuts counts over its
-// covered part.
-vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int row, float binWidth, float phiEnd) {
+// lit bins enter through their count n0 and first moment n1. The rest of the ray after its full
+// bins takes one evaluation: the part of the bin its end cuts, or, for a ray that ends past φ_max
+// (pMax), the last bin and beyond, where the last bin's visibility holds as in the per-bin sum.
+vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int row, float binWidth, float rayEnd,
+                    float pMax) {
   const float kGauss = 0.28867513459;  // 1 / (2 sqrt 3)
   float D = gridDistance();
   float DsinAlpha = D * max(sin(alpha), 0.0);
+  float phiEnd = min(rayEnd, pMax);
   float binsCovered = min(phiEnd / binWidth, float(nPhi()));
   int fullBins = int(binsCovered);
   vec3 sum = vec3(0.0);
@@ -151,15 +154,18 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
       sum += max(binWidth * (n0 * 0.5 * (g1 + g2) + slope * (binWidth * (n1 + 0.5 * n0) - n0 * (mid - phiA))), vec3(0.0));
     }
   }
-  float partial = binsCovered - float(fullBins);
-  if (partial > 0.0 && fullBins < nPhi()) {
-    uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
-    bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
-    float phi = (float(fullBins) + 0.5 * partial) * binWidth;
+  // One fetch and one evaluation for the rest: llvmpipe would pay for two blocks under a branch
+  // each, though a ray never both ends inside a bin and runs past φ_max.
+  float restStart = float(fullBins) * binWidth;
+  float restLength = max(rayEnd - restStart, 0.0);
+  if (restLength > 0.0) {
+    int bin = min(fullBins, nPhi() - 1);
+    uvec4 bits = texelFetch(voxels, ivec3(col, row, bin >> 7), 0);
+    bool shadowed = ((bits[(bin >> 5) & 3] >> uint(bin & 31)) & 1u) != 0u;
     ++workBins;
     ++workFetches;
     ++workEvals;
-    if (!shadowed) sum += partial * binWidth * pointIntegrand(phi, eye, dir, dist, alpha, D, DsinAlpha);
+    if (!shadowed) sum += restLength * pointIntegrand(restStart + 0.5 * restLength, eye, dir, dist, alpha, D, DsinAlpha);
   }
   return sum;
 }
@@ -248,18 +254,7 @@ void main() {
                phase(dot(u.lightDir.xyz, -dir));
       ++workEvals;
     } else {
-      result = pointInscatter(eye, dir, dist, alpha, col, row, binWidth, min(phiEnd, pMax));
-      // Beyond φ_max (a ray that ends past the visible geometry's range) the last bin's
-      // visibility holds, as in the per-bin sum.
-      if (phiEnd > pMax) {
-        uvec4 bits = texelFetch(voxels, ivec3(col, row, vsv.grid.w - 1), 0);
-        float D = gridDistance();
-        ++workFetches;
-        ++workEvals;
-        if ((bits.w >> 31) == 0u)
-          result += (phiEnd - pMax) * pointIntegrand(0.5 * (pMax + phiEnd), eye, dir, dist, alpha, D, D * max(sin(alpha), 0.0));
-      }
-      result *= sigmaS();
+      result = pointInscatter(eye, dir, dist, alpha, col, row, binWidth, phiEnd, pMax) * sigmaS();
     }
     finish(pixel, result);
     return;
