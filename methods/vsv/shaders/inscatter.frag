@@ -179,11 +179,9 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
   float sigma = sigmaT();
   // ∫_a^b e^{-σt s} ds, accurate for σt (b - a) -> 0.
   #define EXP_INTEGRAL(a, b) ((b) <= (a) ? 0.0 : sigma * ((b) - (a)) > 1e-4 ? max(exp(-sigma * (a)) - exp(-sigma * (b)), 0.0) / sigma : ((b) - (a)) * exp(-sigma * (a)))
-  if (yEnd < binWidth) {  // nearly along the axis: the whole ray in the first bin
-    uvec4 bits = texelFetch(voxels, ivec3(col, row, 0), 0);
-    return (bits.x & 1u) != 0u ? 0.0 : EXP_INTEGRAL(0.0, dist);
-  }
-  float binLength = binWidth / sinAlpha;  // of the ray, per bin
+  // Of the ray, per bin. A ray along the axis (sin α -> 0) stays within the first bin, whose
+  // length then exceeds the ray: no division by 0, and no block of its own for llvmpipe to pay.
+  float binLength = min(binWidth / max(sinAlpha, 1e-30), 1e30);
   float rho = exp(-sigma * binLength);
   float perBin = EXP_INTEGRAL(0.0, binLength);
   float binsCovered = min(yEnd, pMax) / binWidth;
@@ -204,21 +202,17 @@ float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, f
       sum += exp(-sigma * float(first) * binLength) * series * perBin;
     }
   }
-  float sCut = float(fullBins) * binLength;  // the rest of the ray from here
-  if (fullBins < nPhi() && yEnd <= pMax) {
-    uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
-    bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
-    if (!shadowed) sum += EXP_INTEGRAL(sCut, dist);
-  } else if (yEnd > pMax) {
-    float sMax = pMax / sinAlpha;
-    // The bin φ_max cuts (when the range is not a whole number of bins), then the lit rest.
-    if (fullBins < nPhi()) {
-      uvec4 bits = texelFetch(voxels, ivec3(col, row, fullBins >> 7), 0);
-      bool shadowed = ((bits[(fullBins >> 5) & 3] >> uint(fullBins & 31)) & 1u) != 0u;
-      if (!shadowed) sum += EXP_INTEGRAL(sCut, sMax);
-    }
-    sum += EXP_INTEGRAL(sMax, dist);
-  }
+  // The rest of the ray after its full bins, one fetch: up to φ_max with the visibility of the bin
+  // it reaches (the bin its end cuts, or the one φ_max cuts when the range is not a whole number of
+  // bins), then lit beyond φ_max.
+  float sCut = float(fullBins) * binLength;
+  float sMax = pMax / max(sinAlpha, 1e-30);
+  int bin = min(fullBins, nPhi() - 1);
+  uvec4 bits = texelFetch(voxels, ivec3(col, row, bin >> 7), 0);
+  ++workFetches;
+  bool shadowed = fullBins < nPhi() && ((bits[(bin >> 5) & 3] >> uint(bin & 31)) & 1u) != 0u;
+  if (!shadowed) sum += EXP_INTEGRAL(sCut, min(dist, sMax));
+  sum += EXP_INTEGRAL(sMax, dist);
   #undef EXP_INTEGRAL
   return sum;
 }
