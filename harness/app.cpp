@@ -768,7 +768,7 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
     calibration.reason = "chosen with --timer";
   }
   const std::string timer = timerStrategyName(calibration.chosen);
-  // After the calibration's draw and dispatch, before any thread of ours (the ground truth's).
+  // Once the context and its driver threads exist, before any thread of ours (the ground truth's).
   const ThreadPinning pinning = pinDriverThreads(req.pinThreads, calibration.chosen == TimerStrategy::WallClock);
   const std::string date = isoDateUtc();
   json meta = metaJson(req, plan, info, calibration, pinning, date);

@@ -1,11 +1,10 @@
 // Pinning the GL driver's worker threads, one per CPU in turn, for wall-clock pass timing.
 //
 // When the "GPU" is a CPU rasterizer (llvmpipe), each glFinish-bracketed pass starts from idle
-// worker threads that the OS scheduler wakes wherever it likes. Measured on 2 cores: a 5.5 ms
-// fullscreen pass read 5.5 ms in some frames and 10.7 ms in others (both workers woken on one
-// CPU), a frame-to-frame MdAPE of 26 %; with the workers pinned one per CPU, 0.7 %. Long passes
-// (a 40 ms ray march) were the same either way, so leaving the threads free penalised the short
-// passes of the fast methods against the baselines. Every result records what was pinned.
+// worker threads that the OS scheduler wakes wherever it likes: short passes read up to twice
+// their time in some frames while long ones barely move, so leaving the threads free penalised
+// the short passes of the fast methods against the baselines (figures: README "Timing",
+// scripts/pinning-ab). Every result records what was pinned.
 #pragma once
 #include <nlohmann/json.hpp>
 
@@ -31,8 +30,8 @@ struct ThreadPinning {
 // Linux through /proc/self/task, elsewhere none.
 std::vector<PinnedThread> otherThreads();
 
-// mode "on": pins every thread but the caller (call it right after the GL context exists and has
-// run a draw and a dispatch, before starting threads of one's own), the k-th to the k-th CPU of
+// mode "on": pins every thread but the caller (call it once the GL context exists: llvmpipe starts
+// its workers with it; and before starting threads of one's own), the k-th to the k-th CPU of
 // the caller's affinity set modulo its size, so that any run of consecutive workers lands on
 // distinct CPUs. "auto": the same when `wallClockTiming` (the driver's timestamps could not be
 // trusted, so passes are timed by glFinish and the wall clock), else nothing. "off": nothing.
