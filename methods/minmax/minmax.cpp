@@ -15,6 +15,7 @@ constexpr const char* kNearEpipolePass = "Near Epipole";
 constexpr int kPrefixRes = 1024;  // samples of the untextured prefix tables over gammaAll
 constexpr int kMaxRank = 16;      // kMaxRank in shaders/epipolar.glsl
 constexpr int kMipmapBlock = 16;  // kBlock in shaders/mipmap.comp: nodes reduced per invocation
+constexpr int kRectifyBlock = 16;  // kBlock in shaders/rectify.comp: leaves rectified per invocation
 
 // Texture units after bind::kFirstMethodUnit (see the shaders).
 constexpr GLuint kUnitTree = 10, kUnitBasisBeta = 11, kUnitGammaPrefix = 12, kUnitTexturedPrefix = 13,
@@ -34,8 +35,10 @@ int nextPowerOfTwo(int v) {
   return p;
 }
 
-void dispatch2D(int width, int height) {
-  glDispatchCompute(GLuint((width + 63) / 64), GLuint(std::max(height, 1)), 1);
+// `invocations` in groups of 64, laid out in rows within the 65535 groups guaranteed per axis.
+void dispatchBlocks(long invocations) {
+  long groups = (invocations + 63) / 64, columns = std::clamp(groups, 1L, 32768L);
+  glDispatchCompute(GLuint(columns), GLuint((groups + columns - 1) / columns), 1);
 }
 
 int rankGroups(int rank) { return (rank + 3) / 4; }
@@ -117,9 +120,7 @@ void MinmaxMethod::allocate(int slices, int rowLength, int rank, bool textured) 
   rowLength_ = rowLength;
   allocatedRank_ = rank;
   allocatedTextured_ = textured;
-  rectified_ = gl::createTexture2D(GL_R32F, rowLength, slices);
-  gl::setFilter(rectified_.id(), GL_NEAREST, GL_NEAREST);
-  tree_ = gl::createTexture2D(GL_RG32F, 2 * rowLength, slices);
+  tree_ = gl::createTexture2D(GL_RGBA32F, 3 * rowLength / 4, slices);  // shaders/tree.glsl
   gl::setFilter(tree_.id(), GL_NEAREST, GL_NEAREST);
   basisBeta_ = gl::createTexture2D(GL_RGBA32F, minmax::kGrid, rankGroups(rank));
   gl::setFilter(basisBeta_.id(), GL_LINEAR, GL_LINEAR);
@@ -178,8 +179,8 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
     glNamedBufferSubData(epipolarUbo_.id(), 0, sizeof(eu), &eu);
 
     glUseProgram(rectifyProgram_.id());
-    glBindImageTexture(0, rectified_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    dispatch2D(rowLength, slices);
+    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    dispatchBlocks(long(slices) * (rowLength / kRectifyBlock));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
   {
@@ -214,16 +215,14 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
   {
     auto scope = timer.scope(kMipmapPass);
     glUseProgram(mipmapProgram_.id());
-    glBindTextureUnit(kUnitTree, rectified_.id());
-    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glUniform1i(2, slices_);
-    // Each pass reads one level and writes up to four above it (kBlock in the shader).
-    for (int inWidth = rowLength_; inWidth > 1; inWidth = std::max(inWidth / kMipmapBlock, 1)) {
+    // Rectification stored the leaves and the three levels above them (a row of 16: all); each pass
+    // here reads one level and writes up to three above it, the last pass four (kBlock in the shader).
+    int first = rowLength_ > kRectifyBlock ? rowLength_ / (kRectifyBlock / 2) : 1;
+    for (int inWidth = first; inWidth > 1; inWidth = inWidth > kMipmapBlock ? inWidth / (kMipmapBlock / 2) : 1) {
       glUniform1i(0, inWidth);
-      glUniform1i(1, inWidth == rowLength_ ? 1 : 0);
-      long invocations = long(slices_) * (inWidth / std::min(inWidth, kMipmapBlock));
-      long groups = (invocations + 63) / 64, columns = std::min(groups, 32768L);  // within the 65535 guaranteed per axis
-      glDispatchCompute(GLuint(columns), GLuint((groups + columns - 1) / columns), 1);
+      dispatchBlocks(long(slices_) * (inWidth / std::min(inWidth, kMipmapBlock)));
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
   }

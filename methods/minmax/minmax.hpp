@@ -23,11 +23,12 @@ class MinmaxMethod : public Method {
   // Integration's traversal iterations and lit runs per pixel (mean, max).
   bool beginWorkCount(int width, int height) override;
   std::map<std::string, double> endWorkCount() override;
-  // The viewer's buffers: one epipolar slice per row, and its 1D min-max levels side by side (min, max).
+  // The viewer's buffer: one epipolar slice per row, its 1D min-max levels (left two thirds, two
+  // nodes per texel) and its rectified shadow map (the leaves, right third, four per texel).
   std::vector<DebugView> debugViews() const override {
-    if (!rectified_) return {};
-    return {{"rectified shadow map", rectified_.id()},
-            {"min-max levels (red min, green max)", tree_.id(), DebugView::Kind::Value, 1, 1, 2}};
+    if (!tree_) return {};
+    return {{"rectified shadow map (right third, 4 texels per pixel) and its min-max levels (left, 2 nodes per pixel)",
+             tree_.id(), DebugView::Kind::Value, 1, 1, 3}};
   }
 
  private:
@@ -52,7 +53,7 @@ class MinmaxMethod : public Method {
   WorkCounters counters_{{"visited", "iterations", "lit_runs"}};
   bool counting_ = false;
   gl::Buffer epipolarUbo_;
-  gl::Texture rectified_, tree_;
+  gl::Texture tree_;  // the rectified rows are its leaves
   gl::Texture basisBeta_, basisGamma_, gammaPrefix_, texturedPrefix_;
 };
 

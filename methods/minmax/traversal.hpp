@@ -27,6 +27,13 @@ struct TraversalOptions {
   bool delayGamma = true;  // §3.5: emit merged lit runs at the next unlit node (else every lit node)
 };
 
+// Where the GPU keeps node k of a row of d = 2^k >= 16 leaves (shaders/tree.glsl): the float index
+// in its row of RGBA32F texels of the node's min (its max follows, except for a leaf: min = max).
+inline int gpuTreeFloat(unsigned node, int d) {
+  if (node >= unsigned(d)) return 4 * (d / 2) + int(node - unsigned(d));
+  return 2 * int(node);
+}
+
 inline int treeLevel(unsigned node) {
   int level = 0;
   while (node >>= 1) ++level;

@@ -6,11 +6,12 @@
 #include "common.glsl"
 #include "epipolar.glsl"
 #include "work_counters.glsl"
+#include "tree.glsl"
 // Built per variant (minmax.cpp): MINMAX_RANK, MINMAX_TEXTURED, MINMAX_DELAY_GAMMA and
 // MINMAX_UP_ONE_LEVEL are compile-time constants, since llvmpipe runs both sides of every branch
 // and every iteration of a loop bounded by a uniform under a mask.
 #define kRankGroups ((MINMAX_RANK + 3) / 4)
-layout(binding = 10) uniform sampler2D tree;            // RG32F, 2d x slices, nearest
+layout(binding = 10) uniform sampler2D tree;            // RGBA32F, 3d/4 x slices (tree.glsl), nearest
 layout(binding = 11) uniform sampler2D basisBeta;       // RGBA32F, kGridSize x kRankGroups (4 ranks per texel), linear
 layout(binding = 12) uniform sampler2D gammaPrefix;     // RGBA32F, (prefixRes + 1) x kRankGroups, linear
 layout(binding = 13) uniform sampler2D texturedPrefix;  // (texRes + 1) x (slices * rank), linear
@@ -44,6 +45,15 @@ void addPrefix(float sign, float x) {
 }
 
 int treeLevel(uint node) { return findMSB(node); }
+
+// (min, max) of node k of this pixel's row (one fetch; leaves have min = max).
+vec2 treeNode(uint node, int d) {
+  bool leaf = node >= uint(d);
+  uint j = node - uint(d);
+  vec4 t = texelFetch(tree, ivec2(leaf ? leafTexel(d, j) : innerTexel(node), rowSlice), 0);
+  vec2 half_ = (leaf ? (j & 2u) != 0u : (node & 1u) != 0u) ? t.zw : t.xy;
+  return leaf ? vec2((j & 1u) != 0u ? half_.y : half_.x) : half_;
+}
 
 // The next node after a step to the right: up while it is a left child's right sibling's parent
 // (paper 3.5: one level per step with MINMAX_UP_ONE_LEVEL).
@@ -87,7 +97,7 @@ void traverseRow(int d, float beta, float g0, float g1) {
         w.done = true;
         break;
       }
-      vec2 m = texelFetch(tree, ivec2(int(w.node), rowSlice), 0).xy;
+      vec2 m = treeNode(w.node, d);
       bool lit = beta < m.x;
       bool shadowed = !lit && (beta >= m.y || w.node >= uint(d));
       if (!lit && !shadowed) {
@@ -130,7 +140,7 @@ void traverseRow(int d, float beta, float g0, float g1) {
     float size = float(d >> level);
     float start = float(node - (1u << level)) * size, end = start + size;
     if (start >= g1) break;
-    vec2 m = texelFetch(tree, ivec2(int(node), rowSlice), 0).xy;
+    vec2 m = treeNode(node, d);
     bool lit = beta < m.x;
     bool shadowed = !lit && (beta >= m.y || node >= uint(d));
     if (!lit && !shadowed) {

@@ -1,14 +1,13 @@
 #version 450 core
 // Mipmap Construction (Chen et al. 2011, §3.3): the 1D min-max mipmaps of all rectified rows, each
-// row one row of `tree` in Ahnentafel order (node k at x = k: root 1, children 2k and 2k+1, leaves
-// d..2d-1). One pass builds up to four levels: an invocation reduces a block of 16 nodes of the
-// level it reads (the rectified map in the first pass, which also stores the leaves) in registers
-// and stores the 8 + 4 + 2 + 1 nodes above them, so a row of 1024 takes three passes, not ten.
+// row one row of `tree` (layout in tree.glsl). Rectification (rectify.comp) stores the leaves and
+// the three levels above them; each pass here reads one level and builds up to three above it (four
+// at the top), an invocation reducing a block of 16 nodes in registers and storing the 8 + 4 + 2
+// nodes above them as sibling pairs, so a row of 1024 takes two passes here.
+#include "tree.glsl"
 layout(local_size_x = 64) in;
-layout(binding = 10) uniform sampler2D rectified;  // first pass only
-layout(rg32f, binding = 3) uniform image2D tree;
-layout(location = 0) uniform int inWidth;  // nodes on the level this pass reads (a power of two)
-layout(location = 1) uniform int firstPass;
+layout(rgba32f, binding = 3) uniform image2D tree;
+layout(location = 0) uniform int inWidth;  // nodes on the level this pass reads (a power of two, >= 2)
 layout(location = 2) uniform int slices;
 const int kBlock = 16;
 
@@ -20,24 +19,26 @@ void main() {
   if (slice >= slices) return;
   int base = (id - slice * perSlice) * block;
   vec2 node[kBlock];
-  for (int i = 0; i < kBlock; ++i) {
-    if (i >= block) break;
-    if (firstPass != 0) {
-      float s = texelFetch(rectified, ivec2(base + i, slice), 0).r;
-      node[i] = vec2(s);
-      imageStore(tree, ivec2(inWidth + base + i, slice), vec4(s, s, 0.0, 0.0));
-    } else {
-      node[i] = imageLoad(tree, ivec2(inWidth + base + i, slice)).xy;
-    }
+  for (int i = 0; i < kBlock / 2; ++i) {
+    if (2 * i >= block) break;
+    vec4 pair = imageLoad(tree, ivec2(innerTexel(uint(inWidth + base + 2 * i)), slice));
+    node[2 * i] = pair.xy;
+    node[2 * i + 1] = pair.zw;
   }
+  // Up the levels; the block's root is stored only when it is the row's (its sibling is another
+  // invocation's: the next pass stores the pair).
   int width = inWidth;
-  for (int n = block / 2; n >= 1; n /= 2) {
+  for (int count = block / 2; count >= 1; count /= 2) {
     width /= 2;
     base /= 2;
     for (int i = 0; i < kBlock / 2; ++i) {
-      if (i >= n) break;
+      if (i >= count) break;
       node[i] = vec2(min(node[2 * i].x, node[2 * i + 1].x), max(node[2 * i].y, node[2 * i + 1].y));
-      imageStore(tree, ivec2(width + base + i, slice), vec4(node[i], 0.0, 0.0));
+    }
+    if (count == 1 && width > 1) break;
+    for (int i = 0; i < kBlock / 2; i += 2) {
+      if (i >= count) break;
+      imageStore(tree, ivec2(innerTexel(uint(width + base + i)), slice), vec4(node[i], node[count > 1 ? i + 1 : i]));
     }
   }
 }

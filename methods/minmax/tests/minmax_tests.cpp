@@ -263,25 +263,28 @@ TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
     MethodRun run = runner.run(method, resolveSpec("minmax:slices=16:res=" + std::to_string(res), glLimits()).params);
     ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
     std::vector<DebugView> views = method.debugViews();
-    ASSERT_EQ(views.size(), 2u);
-    GLint d = 0, slices = 0;
-    glGetTextureLevelParameteriv(views[0].texture, 0, GL_TEXTURE_WIDTH, &d);
+    ASSERT_EQ(views.size(), 1u);
+    GLint width = 0, slices = 0;
+    glGetTextureLevelParameteriv(views[0].texture, 0, GL_TEXTURE_WIDTH, &width);
     glGetTextureLevelParameteriv(views[0].texture, 0, GL_TEXTURE_HEIGHT, &slices);
-    ASSERT_EQ(d, res);
-    std::vector<float> rectified(size_t(d) * size_t(slices)), tree(size_t(4 * d) * size_t(slices));
-    glGetTextureImage(views[0].texture, 0, GL_RED, GL_FLOAT, GLsizei(rectified.size() * 4), rectified.data());
-    glGetTextureImage(views[1].texture, 0, GL_RG, GL_FLOAT, GLsizei(tree.size() * 4), tree.data());
-    int wrong = 0;
+    int d = res;
+    ASSERT_EQ(width, 3 * d / 4);
+    std::vector<float> tree(size_t(4 * width) * size_t(slices));
+    glGetTextureImage(views[0].texture, 0, GL_RGBA, GL_FLOAT, GLsizei(tree.size() * 4), tree.data());
+    int wrong = 0, occluded = 0;
     for (int k = 0; k < slices; ++k) {
-      auto node = [&](int i) { return &tree[(size_t(k) * size_t(2 * d) + size_t(i)) * 2]; };
-      for (int i = 0; i < d; ++i) {
-        float leaf = rectified[size_t(k) * size_t(d) + size_t(i)];
-        wrong += node(d + i)[0] != leaf || node(d + i)[1] != leaf;
+      const float* row = &tree[size_t(k) * size_t(4 * width)];
+      auto lo = [&](int i) { return row[minmax::gpuTreeFloat(unsigned(i), d)]; };
+      auto hi = [&](int i) { return i >= d ? lo(i) : row[minmax::gpuTreeFloat(unsigned(i), d) + 1]; };
+      // Leaves: the beta where a light ray is blocked (in [0, pi]) or 4 (never blocked).
+      for (int i = d; i < 2 * d; ++i) {
+        wrong += !(lo(i) == 4.0f || (lo(i) >= 0.0f && lo(i) <= 3.1416f));
+        occluded += lo(i) < 4.0f;
       }
       for (int i = 1; i < d; ++i)
-        wrong += node(i)[0] != std::min(node(2 * i)[0], node(2 * i + 1)[0]) ||
-                 node(i)[1] != std::max(node(2 * i)[1], node(2 * i + 1)[1]);
+        wrong += lo(i) != std::min(lo(2 * i), lo(2 * i + 1)) || hi(i) != std::max(hi(2 * i), hi(2 * i + 1));
     }
+    EXPECT_GT(occluded, d * slices / 2) << "res=" << res;  // the room's walls block most light rays
     EXPECT_EQ(wrong, 0) << "res=" << res;
   }
 }
