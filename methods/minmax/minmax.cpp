@@ -78,6 +78,7 @@ std::vector<ParamSpec> MinmaxMethod::params() const {
       ParamSpec::integer("epipole_steps", 256, 1, 16384, "ray-march steps near the epipole"),
       ParamSpec::flag("up_one_level", true, "traversal climbs at most one level per step (paper 3.5)"),
       ParamSpec::flag("delay_gamma", true, "evaluate prefix sums once per lit run, not per lit node (paper 3.5)"),
+      ParamSpec::flag("top_start", true, "traversal starts at the largest node at the ray's start (the root), not its leaf"),
   };
 }
 
@@ -94,6 +95,7 @@ void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params)
   epipoleSteps_ = params.getInt("epipole_steps");
   upOneLevel_ = params.getBool("up_one_level");
   delayGamma_ = params.getBool("delay_gamma");
+  topStart_ = params.getBool("top_start");
   maxTextureSize_ = context.limits.maxTextureSize;
   textured_ = context.effects.lightTexture || context.scene.light.type == LightType::Spot || context.effects.cosineLobe;
   rowLength_ = slices_ = allocatedRank_ = 0;
@@ -103,7 +105,8 @@ void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params)
   // loop would cost as if always taken.
   std::string variant = "#define MINMAX_RANK " + std::to_string(std::min(rank_, kMaxRank)) + "\n#define MINMAX_TEXTURED " +
                         (textured_ ? "1" : "0") + "\n#define MINMAX_DELAY_GAMMA " + (delayGamma_ ? "1" : "0") +
-                        "\n#define MINMAX_UP_ONE_LEVEL " + (upOneLevel_ ? "1" : "0") + "\n";
+                        "\n#define MINMAX_UP_ONE_LEVEL " + (upOneLevel_ ? "1" : "0") +
+                        "\n#define MINMAX_TOP_START " + (topStart_ ? "1" : "0") + "\n";
   rectifyProgram_ = gl::buildCompute("methods/minmax/shaders/rectify.comp", defines);
   mipmapProgram_ = gl::buildCompute("methods/minmax/shaders/mipmap.comp", defines);
   if (textured_) lightTextureProgram_ = gl::buildCompute("methods/minmax/shaders/light_texture.comp", defines);

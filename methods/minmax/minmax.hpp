@@ -37,7 +37,7 @@ class MinmaxMethod : public Method {
   // Knobs.
   int slicesParam_ = 0, rank_ = 4, rowParam_ = 0, textureRes_ = 256, epipoleSteps_ = 256;
   double epipoleRadius_ = 8.0;
-  bool upOneLevel_ = true, delayGamma_ = true;
+  bool upOneLevel_ = true, delayGamma_ = true, topStart_ = true;
   // Scene facts fixed at setup.
   bool textured_ = false;  // light texture or spot cone: per-slice prefix tables
   int maxTextureSize_ = 0;

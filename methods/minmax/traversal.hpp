@@ -25,6 +25,9 @@ std::vector<MinMax> buildMinMaxTree(const std::vector<float>& row);
 struct TraversalOptions {
   bool upOneLevel = true;  // §3.5: climb at most one level after each step (else as far as possible)
   bool delayGamma = true;  // §3.5: emit merged lit runs at the next unlit node (else every lit node)
+  // Start at the largest node that begins at the ray's first texel (the root for a ray from the
+  // eye, g0 = 0) and descend, instead of climbing from the leaf one level per step.
+  bool topStart = true;
 };
 
 // Where the GPU keeps node k of a row of d = 2^k >= 16 leaves (shaders/tree.glsl): the float index
@@ -55,7 +58,11 @@ int traverseRow(const MinMax* tree, int d, float beta, float g0, float g1, Trave
     }
   };
   unsigned node = unsigned(d) + unsigned(std::min(int(std::floor(g0)), d - 1));
-  climb(node);
+  if (options.topStart) {
+    while ((node & 1u) == 0u && node > 1u) node >>= 1;
+  } else {
+    climb(node);
+  }
   float runStart = -1.0f, runEnd = -1.0f;
   const int maxIterations = 4 * d + 64;  // a guard; a row needs at most ~2 log2(d) per run
   int iteration = 0;

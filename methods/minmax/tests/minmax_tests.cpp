@@ -56,8 +56,8 @@ TEST(MinmaxTraversal, MatchesBruteForceOnRandomRows) {
         float g0 = pick(), g1 = pick();
         if (g1 < g0) std::swap(g0, g1);
         Segments expected = bruteForce(row, beta, g0, g1);
-        for (int mode = 0; mode < 4; ++mode) {
-          minmax::TraversalOptions options{(mode & 1) != 0, (mode & 2) != 0};
+        for (int mode = 0; mode < 8; ++mode) {
+          minmax::TraversalOptions options{(mode & 1) != 0, (mode & 2) != 0, (mode & 4) != 0};
           Segments got;
           minmax::traverseRow(tree.data(), d, beta, g0, g1, options, [&](float a, float b) { appendMerged(got, a, b); });
           ASSERT_EQ(got, expected) << "d " << d << " beta " << beta << " [" << g0 << ", " << g1 << "] mode " << mode;
@@ -80,6 +80,19 @@ TEST(MinmaxTraversal, DelayedRunsNeedFewerEmitsAndOneLevelClimbsTerminate) {
   EXPECT_GE(emitsEager, 8);
   int iterations = minmax::traverseRow(tree.data(), 256, 1.0f, 0.0f, 256.0f, {true, true}, [](float, float) {});
   EXPECT_LT(iterations, 200);
+}
+
+TEST(MinmaxTraversal, TopStartSkipsTheClimbOverALongLitRun) {
+  // A ray from the eye over a row lit but for its last 16 texels: from the root the walk descends
+  // the right spine; from the first leaf it climbs the left one a level per step, then descends.
+  std::vector<float> row(1024, 2.0f);
+  for (int j = 1008; j < 1024; ++j) row[j] = 0.0f;
+  auto tree = minmax::buildMinMaxTree(row);
+  minmax::TraversalOptions fromLeaf{true, true, false}, fromTop{true, true, true};
+  int leafIterations = minmax::traverseRow(tree.data(), 1024, 1.0f, 0.0f, 1024.0f, fromLeaf, [](float, float) {});
+  int topIterations = minmax::traverseRow(tree.data(), 1024, 1.0f, 0.0f, 1024.0f, fromTop, [](float, float) {});
+  EXPECT_LT(topIterations, leafIterations);
+  std::printf("iterations: %d from the first leaf, %d from the top\n", leafIterations, topIterations);
 }
 
 class MinmaxTest : public GlTest {};
@@ -148,7 +161,7 @@ TEST_F(MinmaxTest, ErrorFallsAsSlicesAndRankRise) {
 TEST_F(MinmaxTest, OptimisationsDoNotChangeTheImage) {
   Scene scene = loadScene("spheres");
   MethodRun base = renderScene(scene, "minmax:sm=512", kW, kH);
-  for (const char* spec : {"minmax:sm=512:up_one_level=0", "minmax:sm=512:delay_gamma=0"}) {
+  for (const char* spec : {"minmax:sm=512:up_one_level=0", "minmax:sm=512:delay_gamma=0", "minmax:sm=512:top_start=0"}) {
     MethodRun run = renderScene(scene, spec, kW, kH);
     ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
     EXPECT_LT(compareImages(run.inscatter, base.inscatter).rmse, 1e-4 * std::max(meanValue(base.inscatter), 1e-30))
