@@ -109,7 +109,7 @@ void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params)
                         "\n#define MINMAX_TOP_START " + (topStart_ ? "1" : "0") + "\n";
   rectifyProgram_ = gl::buildCompute("methods/minmax/shaders/rectify.comp", defines);
   mipmapProgram_ = gl::buildCompute("methods/minmax/shaders/mipmap.comp", defines);
-  if (textured_) lightTextureProgram_ = gl::buildCompute("methods/minmax/shaders/light_texture.comp", defines);
+  if (textured_) lightTextureProgram_ = gl::buildCompute("methods/minmax/shaders/light_texture.comp", defines + variant);
   integrateDefines_ = defines + variant;
   integrateProgram_ = gl::buildFullscreen("methods/minmax/shaders/integrate.frag", integrateDefines_);
   countingProgram_.reset();

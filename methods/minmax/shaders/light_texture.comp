@@ -2,7 +2,9 @@
 // Light Texture Precomputation (Chen et al. 2011, §3.4): with a light texture T (here also the spot
 // cone and a point light's cosine lobe, which are functions of the light ray too) the gamma factor of the low-rank terms depends on
 // the slice: per slice k, prefix sums of Gamma_i(gamma) T(alpha_k, gamma) over gamma at a reduced
-// resolution (trapezoid rule), row k * rank + i of the table.
+// resolution (trapezoid rule), row k * rank + i of the table. MINMAX_RANK is a compile-time
+// constant (minmax.cpp): with the rank loops unrolled the per-rank sums stay in registers, where
+// llvmpipe keeps a dynamically indexed local array in memory, per lane.
 #include "common.glsl"
 #include "epipolar.glsl"
 layout(local_size_x = 64) in;
@@ -33,11 +35,12 @@ float basisGammaAt(int i, float gamma) {
 void main() {
   int slice = int(gl_GlobalInvocationID.x);
   if (slice >= ep.counts.x) return;
-  int rank = ep.counts.y, res = ep.counts.w;
+  const int rank = MINMAX_RANK;
+  int res = ep.counts.w;
   vec3 n = sliceNormal(sliceAlpha(slice));
   float step = ep.gammaInfo.y / float(res);
-  vec3 sums[kMaxRank];
-  float previous[kMaxRank];
+  vec3 sums[MINMAX_RANK];
+  float previous[MINMAX_RANK];
   vec3 previousT = lightRayTexture(n, 0.0);
   for (int i = 0; i < rank; ++i) {
     sums[i] = vec3(0.0);
