@@ -18,6 +18,7 @@ layout(binding = 9) uniform samplerCube shadowDepthCube;
 layout(binding = 8) uniform sampler2D shadowDepth2D;
 #endif
 const int kBlock = 16;  // kRectifyBlock in minmax.cpp
+// VS_LIGHT_TYPE (harness/frame.cpp): 0 point (cube map), 1 spot, 2 directional (LIGHT_* in common.glsl).
 
 #if VS_LIGHT_TYPE != 0
 // The shadow map's depth at clip-space position `clip` (a nearest texel), unprojected to the world
