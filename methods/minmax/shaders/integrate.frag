@@ -8,8 +8,8 @@
 #include "work_counters.glsl"
 #include "tree.glsl"
 // Built per variant (minmax.cpp): MINMAX_RANK, MINMAX_TEXTURED, MINMAX_DELAY_GAMMA,
-// MINMAX_UP_ONE_LEVEL and MINMAX_TOP_START are compile-time constants, since llvmpipe runs both sides of every branch
-// and every iteration of a loop bounded by a uniform under a mask.
+// MINMAX_UP_ONE_LEVEL and MINMAX_TOP_START are compile-time constants, since llvmpipe runs both
+// sides of every branch and every iteration of a loop bounded by a uniform under a mask.
 #define kRankGroups ((MINMAX_RANK + 3) / 4)
 layout(binding = 10) uniform sampler2D tree;            // RGBA32F, 3d/4 x slices (tree.glsl), nearest
 layout(binding = 11) uniform sampler2D basisBeta;       // RGBA32F, kGridSize x kRankGroups (4 ranks per texel), linear
