@@ -82,14 +82,21 @@ const uint kIndexBit[5] = uint[5](0xAAAAAAAAu, 0xCCCCCCCCu, 0xF0F0F0F0u, 0xFF00F
 
 // Point and spot lights: the integrand per unit φ (σs left out). ds/dφ = r² / (D sin α) with r
 // the distance from the grid's light, taken from the point itself so that it stays consistent
-// where s is clipped to the ray's end.
-vec3 pointIntegrand(float phi, vec3 eye, vec3 dir, float dist, float alpha, float D, float DsinAlpha) {
-  float sinSum = max(sin(alpha + phi), 1e-12);
-  float s = min(D * sin(phi) / sinSum, dist);
+// where s is clipped to the ray's end. sin(α + φ) by the angle sum from (cos α, sin α), and one
+// exp for both extinctions, to the eye and from the light: 7.7 → 7.2 ms Compute L_s on room at
+// 128/256/128.
+vec3 pointIntegrand(float phi, vec3 eye, vec3 dir, float dist, vec2 alphaCosSin, float D, float DsinAlpha) {
+  float sinPhi = sin(phi);
+  float sinSum = max(alphaCosSin.y * cos(phi) + alphaCosSin.x * sinPhi, 1e-12);
+  float s = min(D * sinPhi / sinSum, dist);
   vec3 x = eye + dir * s;
   vec3 toGrid = x - vsv.gridLight.xyz;
-  float jacobian = dot(toGrid, toGrid) / max(DsinAlpha, 1e-30);
-  return exp(-sigmaT() * s) * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x) * jacobian;
+  vec3 fromLight = x - u.lightPos.xyz;
+  float r2 = max(dot(fromLight, fromLight), 1e-24);
+  float invR = inversesqrt(r2);
+  vec3 l = fromLight * invR;  // lightTravelDir(x)
+  float jacobianOverR2 = dot(toGrid, toGrid) / (max(DsinAlpha, 1e-30) * r2);
+  return exp(-sigmaT() * (s + r2 * invR)) * phase(dot(l, -dir)) * lightEmitted(x, l) * jacobianOverR2;
 }
 
 #define kGroupsPerLayer (128 / VSV_GROUP)
@@ -120,11 +127,11 @@ void litMoments(uvec4 bits, int g, int first, int fullBins, out float n0, out fl
 // lit bins enter through their count n0 and first moment n1. The rest of the ray after its full
 // bins takes one evaluation: the part of the bin its end cuts, or, for a ray that ends past φ_max
 // (pMax), the last bin and beyond, where the last bin's visibility holds as in the per-bin sum.
-vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int row, float binWidth, float rayEnd,
+vec3 pointInscatter(vec3 eye, vec3 dir, float dist, vec2 alphaCosSin, int col, int row, float binWidth, float rayEnd,
                     float pMax) {
   const float kGauss = 0.28867513459;  // 1 / (2 sqrt 3)
   float D = gridDistance();
-  float DsinAlpha = D * max(sin(alpha), 0.0);
+  float DsinAlpha = D * alphaCosSin.y;
   float phiEnd = min(rayEnd, pMax);
   float binsCovered = min(phiEnd / binWidth, float(nPhi()));
   int fullBins = int(binsCovered);
@@ -146,8 +153,8 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
       float phiA = float(first) * binWidth;
       float phiB = min(float(first + VSV_GROUP) * binWidth, phiEnd);
       float mid = 0.5 * (phiA + phiB), offset = max(phiB - phiA, 0.0) * kGauss;
-      vec3 g1 = pointIntegrand(mid - offset, eye, dir, dist, alpha, D, DsinAlpha);
-      vec3 g2 = pointIntegrand(mid + offset, eye, dir, dist, alpha, D, DsinAlpha);
+      vec3 g1 = pointIntegrand(mid - offset, eye, dir, dist, alphaCosSin, D, DsinAlpha);
+      vec3 g2 = pointIntegrand(mid + offset, eye, dir, dist, alphaCosSin, D, DsinAlpha);
       vec3 slope = (g2 - g1) / max(2.0 * offset, 1e-30);
       // Sum over lit bins j of g(φ_A + (j + 1/2) w) w with g linear through the two points (the
       // line can dip below 0 at a group's end where g is steep; g itself cannot).
@@ -165,56 +172,60 @@ vec3 pointInscatter(vec3 eye, vec3 dir, float dist, float alpha, int col, int ro
     ++workBins;
     ++workFetches;
     ++workEvals;
-    if (!shadowed) sum += restLength * pointIntegrand(restStart + 0.5 * restLength, eye, dir, dist, alpha, D, DsinAlpha);
+    if (!shadowed) sum += restLength * pointIntegrand(restStart + 0.5 * restLength, eye, dir, dist, alphaCosSin, D, DsinAlpha);
   }
   return sum;
 }
 
 // Directional light without a texture: L_in is constant and φ = s sin α, so each lit bin adds
-// ∫ e^{-σt s} ds over its span of the ray exactly: a geometric series in the bin index, summed per
-// group over its lit bits. Returns ∫_0^dist e^{-σt s} V ds; beyond φ_max the ray is lit.
-float parallelTransmittanceIntegral(float dist, float alpha, int col, int row, float binWidth, float pMax) {
-  float sinAlpha = max(sin(alpha), 0.0);
+// ∫ e^{-σt s} ds over its span of the ray exactly, and so does each run of lit bins. Returns
+// ∫_0^dist e^{-σt s} V ds; beyond φ_max the ray is lit.
+float parallelTransmittanceIntegral(float dist, float sinAlpha, int col, int row, float binWidth, float pMax) {
   float yEnd = dist * sinAlpha;
   float sigma = sigmaT();
-  // ∫_a^b e^{-σt s} ds, accurate for σt (b - a) -> 0.
-  #define EXP_INTEGRAL(a, b) ((b) <= (a) ? 0.0 : sigma * ((b) - (a)) > 1e-4 ? max(exp(-sigma * (a)) - exp(-sigma * (b)), 0.0) / sigma : ((b) - (a)) * exp(-sigma * (a)))
   // Of the ray, per bin. A ray along the axis (sin α -> 0) stays within the first bin, whose
   // length then exceeds the ray: no division by 0, and no block of its own for llvmpipe to pay.
   float binLength = min(binWidth / max(sinAlpha, 1e-30), 1e30);
-  float rho = exp(-sigma * binLength);
-  float perBin = EXP_INTEGRAL(0.0, binLength);
-  float binsCovered = min(yEnd, pMax) / binWidth;
-  int fullBins = min(int(binsCovered), nPhi());
+  int fullBins = min(int(min(yEnd, pMax) / binWidth), nPhi());
   float sum = 0.0;
   int layers = min((fullBins + 127) >> 7, vsv.grid.w);
   workBins += uint(fullBins);
   workFetches += uint(layers);
+  // Each run of lit bins [a, b) adds ∫ e^{-σt s} ds = F(b binLength) - F(a binLength) with
+  // F(s) = ∫_0^s e^{-σt t} dt, so only the edges of the runs cost anything: one F per edge, found
+  // with findLSB across the words (a ray lit all along costs one at its start and one at its end,
+  // where a walk over every bit cost 32 per word: terrain, 128/256/128, 1.8 of 5.9 ms).
+  #define RUN_INTEGRAL(s) (sigma * (s) > 1e-2 ? (1.0 - exp(-sigma * (s))) / sigma : (s) * (1.0 - sigma * (s) * (0.5 - sigma * (s) * (1.0 / 6.0 - sigma * (s) / 24.0))))
+  uint carry = 0u;  // the bin before the word's first is lit
   for (int layer = 0; layer < layers; ++layer) {
     uvec4 bits = texelFetch(voxels, ivec3(col, row, layer), 0);
-    for (int g = 0; g < kGroupsPerLayer; ++g) {
-      int first = 128 * layer + VSV_GROUP * g;
-      float series = 0.0, power = 1.0;
-      for (int w = 0; w < kWordsPerGroup; ++w) {
-        uint lit = litBits(bits, g, w, first, fullBins);
-        for (int j = 0; j < min(VSV_GROUP, 32); ++j, power *= rho) series += float((lit >> uint(j)) & 1u) * power;
+    for (int w = 0; w < 4; ++w) {
+      int first = 128 * layer + 32 * w;
+      uint lit = ~bits[w] & bitfieldExtract(0xFFFFFFFFu, 0, clamp(fullBins - first, 0, 32));
+      uint edges = lit ^ ((lit << 1u) | carry);  // bins where a run starts or ends
+      carry = lit >> 31u;
+      while (edges != 0u) {
+        int k = findLSB(edges);
+        edges &= edges - 1u;
+        float f = RUN_INTEGRAL(float(first + k) * binLength);
+        sum += ((lit >> uint(k)) & 1u) != 0u ? -f : f;
       }
-      sum += exp(-sigma * float(first) * binLength) * series * perBin;
     }
   }
   // The rest of the ray after its full bins, one fetch: up to φ_max with the visibility of the bin
   // it reaches (the bin its end cuts, or the one φ_max cuts when the range is not a whole number of
-  // bins), then lit beyond φ_max.
+  // bins), then lit beyond φ_max. Lit, it continues an open run; so a run ends at the ray's end.
   float sCut = float(fullBins) * binLength;
   float sMax = pMax / max(sinAlpha, 1e-30);
   int bin = min(fullBins, nPhi() - 1);
   uvec4 bits = texelFetch(voxels, ivec3(col, row, bin >> 7), 0);
   ++workFetches;
   bool shadowed = fullBins < nPhi() && ((bits[(bin >> 5) & 3] >> uint(bin & 31)) & 1u) != 0u;
-  if (!shadowed) sum += EXP_INTEGRAL(sCut, min(dist, sMax));
-  sum += EXP_INTEGRAL(sMax, dist);
-  #undef EXP_INTEGRAL
-  return sum;
+  float tailStart = shadowed ? min(dist, sMax) : sCut;
+  float runOpenUpTo = carry != 0u ? sCut : 0.0;  // F(0) = 0
+  sum += RUN_INTEGRAL(runOpenUpTo) + RUN_INTEGRAL(dist) - RUN_INTEGRAL(tailStart);
+  #undef RUN_INTEGRAL
+  return max(sum, 0.0);
 }
 
 // The pixel's L_s (non-finite values become 0) and its work counters.
@@ -234,7 +245,8 @@ void main() {
   vec3 eye = vsv.eyeAndDistance.xyz;
   float D = gridDistance();
   float aMax = alphaMax(), pMax = phiMax();
-  float alpha = alphaOfPlane(planeCoords(dir));
+  vec2 dirPlane = planeCoords(dir);  // (cos α, sin α >= 0): dir is a unit vector
+  float alpha = alphaOfPlane(dirPlane);
   float phiEnd = phiOfPlane(planeCoords(dir * dist));
   int row = thetaRow(thetaOf(dir));
   int col = alphaColumn(alpha, aMax);
@@ -244,11 +256,11 @@ void main() {
     float binWidth = pMax / float(nPhi());
     vec3 result;
     if (parallelLight()) {
-      result = parallelTransmittanceIntegral(dist, alpha, col, row, binWidth, pMax) * lightIncident(eye) * sigmaS() *
+      result = parallelTransmittanceIntegral(dist, dirPlane.y, col, row, binWidth, pMax) * lightIncident(eye) * sigmaS() *
                phase(dot(u.lightDir.xyz, -dir));
       ++workEvals;
     } else {
-      result = pointInscatter(eye, dir, dist, alpha, col, row, binWidth, phiEnd, pMax) * sigmaS();
+      result = pointInscatter(eye, dir, dist, dirPlane, col, row, binWidth, phiEnd, pMax) * sigmaS();
     }
     finish(pixel, result);
     return;
