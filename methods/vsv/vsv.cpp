@@ -79,6 +79,9 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &sharedBytes);
   rowWords_ = size_.nAlpha * (size_.nPhi / 32);
   fused_ = !fromGeometry_ && params.getBool("fused") && double(rowWords_) * 4.0 <= double(sharedBytes);
+  // Rows per fused workgroup: as many as fit, up to 8 (their α walks run side by side).
+  rowsPerGroup_ = 8;
+  while (rowsPerGroup_ > 1 && double(rowsPerGroup_) * double(rowWords_) * 4.0 > double(sharedBytes)) rowsPerGroup_ /= 2;
   dynamicRanges_ = params.getBool("ranges");
   coarse_ = params.getInt("coarse");
   surfaceShadows_ = params.getBool("surface");
@@ -113,7 +116,8 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
                                         defines);
   } else if (fused_) {
     fusedProgram_ = gl::buildCompute("methods/vsv/shaders/voxelize_sm.comp",
-                                     defines + "#define VSV_ROW_WORDS " + std::to_string(rowWords_) + "\n");
+                                     defines + "#define VSV_ROW_WORDS " + std::to_string(rowWords_) + "\n#define VSV_ROWS " +
+                                         std::to_string(rowsPerGroup_) + "\n");
   } else {
     fromSmProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "methods/vsv/shaders/voxelize_sm.vert"},
                                        {GL_FRAGMENT_SHADER, "methods/vsv/shaders/voxelize_sm.frag"}},
@@ -183,13 +187,13 @@ void VsvMethod::voxelizeFromShadowMap(const Frame& frame, PassTimer& timer) {
   endOrTargets();
 }
 
-// Fused: the scanned words straight from the shadow map, one workgroup per θ row.
+// Fused: the scanned words straight from the shadow map, one workgroup per rowsPerGroup_ θ rows.
 void VsvMethod::voxelizeFused(const Frame& frame, PassTimer& timer) {
   auto scope = timer.scope(kVoxelizeSm);
   (void)frame;
   glUseProgram(fusedProgram_.id());
   glBindImageTexture(0, voxels_->texture(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
-  glDispatchCompute(GLuint(size_.nTheta), 1, 1);
+  glDispatchCompute(GLuint((size_.nTheta + rowsPerGroup_ - 1) / rowsPerGroup_), 1, 1);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 

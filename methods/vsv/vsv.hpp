@@ -47,6 +47,7 @@ class VsvMethod : public Method {
 
   vsv::GridSize size_;
   int rowWords_ = 0;  // fused voxelizer: shared words per theta row
+  int rowsPerGroup_ = 1;  // fused voxelizer: theta rows per workgroup
   bool fromGeometry_ = false, fused_ = true, dynamicRanges_ = true, surfaceShadows_ = false;
   int coarse_ = 4;
   glm::vec2 surfaceBias_{2.0f, 0.5f};  // towards the light, along the normal (voxels)
