@@ -17,6 +17,7 @@ static constexpr const char* kScan = "Scan VSV";
 static constexpr const char* kInscatter = "Compute L_s";
 static constexpr const char* kRanges = "Epipolar Ranges";
 static constexpr const char* kSurface = "Surface Shadows";
+static constexpr GLuint kRangesUboBinding = 5;  // VsvRangesBlock in shaders/epipolar.glsl
 static constexpr int kRangesTile = 4;  // pixels per side of one Epipolar Ranges invocation
 
 std::string VsvMethod::description() const {
@@ -102,6 +103,8 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   scan_ = std::make_unique<vsv::Scan>();
   gridUbo_ = gl::createBuffer(sizeof(vsv::GridUniforms));
   rangesSsbo_ = gl::createBuffer(2 * sizeof(uint32_t));
+  const uint32_t noRanges[4] = {0, 0, 0, 0};  // read, but unused, with ranges=0
+  rangesUbo_ = gl::createBuffer(sizeof(noRanges), noRanges);
   const std::string defines = sceneDefines(context.effects) + "#define VSV_LAYERS " + std::to_string(size_.layers()) + "\n";
   rangesProgram_ = gl::buildCompute("methods/vsv/shaders/ranges.comp",
                                     defines + "#define RANGES_TILE " + std::to_string(kRangesTile) + "\n");
@@ -145,6 +148,7 @@ void VsvMethod::updateGrid(const Frame& frame) {
   glNamedBufferSubData(gridUbo_.id(), 0, sizeof(g), &g);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, gridUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, rangesSsbo_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, kRangesUboBinding, rangesUbo_.id());
 }
 
 void VsvMethod::computeRanges(const Frame& frame, PassTimer& timer) {
@@ -155,7 +159,9 @@ void VsvMethod::computeRanges(const Frame& frame, PassTimer& timer) {
   const int groupPixels = 8 * kRangesTile;  // 8x8 invocations, each a tile of pixels
   glDispatchCompute(GLuint((frame.width + groupPixels - 1) / groupPixels),
                     GLuint((frame.height + groupPixels - 1) / groupPixels), 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
+  // The passes after this one read the ranges through a uniform block: a copy on the GPU.
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glCopyNamedBufferSubData(rangesSsbo_.id(), rangesUbo_.id(), 0, 0, 2 * sizeof(uint32_t));
 }
 
 // Both voxelizers OR fragments into every layer of the voxel buffer.

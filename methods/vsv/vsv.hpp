@@ -56,7 +56,7 @@ class VsvMethod : public Method {
   int width_ = 0, height_ = 0;
   std::unique_ptr<vsv::VoxelBuffer> voxels_;
   std::unique_ptr<vsv::Scan> scan_;
-  gl::Buffer gridUbo_, rangesSsbo_;
+  gl::Buffer gridUbo_, rangesSsbo_, rangesUbo_;  // rangesUbo_: the passes' copy of the ranges
   gl::VertexArray emptyVao_;
   gl::Program rangesProgram_, fromSmProgram_, fusedProgram_, geometryProgram_, inscatterProgram_, surfaceProgram_;
   gl::Program countingProgram_;  // Compute L_s with work counters, built on the first count
