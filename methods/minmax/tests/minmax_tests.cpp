@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <random>
 
+#include <Eigen/SVD>
+
 #include "gl_test.hpp"
 #include "harness/metrics.hpp"
 #include "minmax/epipolar.hpp"
@@ -93,6 +95,44 @@ TEST(MinmaxTraversal, TopStartSkipsTheClimbOverALongLitRun) {
   int topIterations = minmax::traverseRow(tree.data(), 1024, 1.0f, 0.0f, 1024.0f, fromTop, [](float, float) {});
   EXPECT_LT(topIterations, leafIterations);
   std::printf("iterations: %d from the first leaf, %d from the top\n", leafIterations, topIterations);
+}
+
+// The low-rank factors (from the eigenproblem of S S^T) against a full SVD of the same 64x64
+// samples truncated to the same rank: the same approximation, for point and directional lights
+// and ranks 1..16 (the product sum_i B_i(beta) Gamma_i(gamma) at the grid nodes).
+TEST(MinmaxLowRank, MatchesTheTruncatedSvd) {
+  for (bool directional : {false, true}) {
+    minmax::EpipolarFrame f;
+    f.directional = directional;
+    f.eyeLightDistance = directional ? 1.0 : 6.0;
+    f.betaLo = 0.05;
+    f.betaHi = 2.9;
+    f.gammaAll = directional ? 20.0 : 2.5;
+    minmax::MediumParams m{directional, 0.1, 0.12, true, 0.4};
+    Eigen::MatrixXd samples(minmax::kGrid, minmax::kGrid);
+    for (int r = 0; r < minmax::kGrid; ++r)
+      for (int c = 0; c < minmax::kGrid; ++c)
+        samples(r, c) = minmax::smoothIntegrand(m, f.eyeLightDistance, minmax::betaAtGrid(f, r / (minmax::kGrid - 1.0)),
+                                                minmax::gammaAtGrid(f, c / (minmax::kGrid - 1.0)));
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(samples, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    for (int rank : {1, 2, 4, 8, 16}) {
+      minmax::LowRank lr = minmax::lowRankApproximation(f, m, rank, 64);
+      ASSERT_EQ(lr.rank, rank);
+      Eigen::MatrixXd expected = svd.matrixU().leftCols(rank) * svd.singularValues().head(rank).asDiagonal() *
+                                 svd.matrixV().leftCols(rank).transpose();
+      double worst = 0.0;
+      for (int r = 0; r < minmax::kGrid; ++r)
+        for (int c = 0; c < minmax::kGrid; ++c) {
+          double product = 0.0;
+          for (int i = 0; i < rank; ++i)
+            product += double(lr.basisBeta[size_t(i) * minmax::kGrid + r]) * lr.basisGamma[size_t(i) * minmax::kGrid + c];
+          worst = std::max(worst, std::fabs(product - expected(r, c)));
+        }
+      EXPECT_LT(worst, 1e-5 * samples.cwiseAbs().maxCoeff()) << "rank " << rank << (directional ? " directional" : " point");
+      double kept = svd.singularValues().head(rank).squaredNorm() / svd.singularValues().squaredNorm();
+      EXPECT_NEAR(lr.energy, kept, 1e-9);
+    }
+  }
 }
 
 class MinmaxTest : public GlTest {};
