@@ -17,7 +17,7 @@ layout(std140, binding = 1) uniform VsvBlock {
 
 // Dynamic angular ranges (§4.3), reduced over the G-buffer as float bits by ranges.comp into a
 // storage buffer, which the passes after it read through a uniform-block copy: the same value for
-// every invocation, loaded once rather than per lane (0.4 ms of Compute L_s on room).
+// every invocation, loaded once rather than per lane (Compute L_s 7.6 -> 6.9 ms on room).
 #ifdef VSV_RANGES_WRITABLE
 layout(std430, binding = 0) buffer VsvRanges {
   uint alphaMaxBits;

@@ -16,7 +16,7 @@ layout(binding = 0, rgba32ui) uniform writeonly uimage2DArray voxels;
 // a clear or a scan step is one access where four words were four (llvmpipe pays per access and
 // per active lane): 2.25 -> 1.95 ms at 128/256/128 on room, 25.6 -> 20.7 ms at 512/1024/512.
 // Splitting one row's α walk over 8 invocations was slower; several rows per workgroup, each walked
-// by its own invocations side by side, share the walk's steps: 3.1 -> 2.2 ms at 128/256/128 (8 rows).
+// by its own invocations side by side, share the walk's steps: 3.4 -> 2.15 ms at 128/256/128 (8 rows).
 shared uvec4 rowQuads[VSV_ROWS * VSV_ROW_WORDS / 4];
 
 void main() {
