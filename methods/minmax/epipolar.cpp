@@ -134,18 +134,42 @@ EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
       gammaAll = std::max(gammaAll, gamma);
     }
   }
+  // The beta range of the low-rank grid starts at the epipole when it is on screen; the pixels
+  // within epipoleRadius of it are ray-marched, and the set {beta < b} is a convex cone around the
+  // axis, so the smallest beta on that circle bounds every other pixel's (the largest, around the
+  // antipode). The rank then goes to the betas the traversal integrates: on trees (384x288,
+  // slices=512:res=1024) rank 4 ... TODO
+  double ringLo = 0.0, ringHi = kPi;
+  if (f.fullCircle && in.epipoleRadius > 0.0) {
+    const int ring = 64;
+    ringLo = kPi;
+    ringHi = 0.0;
+    for (int k = 0; k < ring; ++k) {
+      double angle = 2.0 * kPi * k / ring;
+      glm::dvec2 p = f.epipolePixel + in.epipoleRadius * glm::dvec2(std::cos(angle), std::sin(angle));
+      glm::dvec3 v = pixelRay(in, p.x, p.y);
+      double beta = std::atan2(glm::length(glm::cross(v, f.axis)), clampUnit(glm::dot(v, f.axis)));
+      ringLo = std::min(ringLo, beta);
+      ringHi = std::max(ringHi, beta);
+    }
+    // The circle's 64 points miss its true extreme by at most 1 - cos(pi / 64) of the radius.
+    ringLo *= 0.99;
+    ringHi = kPi - (kPi - ringHi) * 0.99;
+  }
   if (f.fullCircle) {
     f.alphaLo = -kPi;
     f.alphaRange = 2.0 * kPi;
-    if (clip.w > 0) betaLo = 0.0; else betaHi = kPi;
+    if (clip.w > 0) betaLo = ringLo; else betaHi = ringHi;
   } else {
     double margin = 2.0 / pixelsPerRadian;  // two pixels on either side
     f.alphaLo = alphaCentre + relLo - margin;
     f.alphaRange = std::min(relHi - relLo + 2.0 * margin, 2.0 * kPi);
   }
   f.autoSlices = std::clamp(int(std::ceil(f.alphaRange * pixelsPerRadian)), 16, 8192);
-  f.betaLo = std::max(0.0, betaLo - 0.01);
-  f.betaHi = std::min(kPi, betaHi + 0.01);
+  // A margin for the 33 x 33 samples (none at a ring bound, which is exact).
+  bool ringBound = f.fullCircle && in.epipoleRadius > 0.0;
+  f.betaLo = ringBound && clip.w > 0 ? betaLo : std::max(0.0, betaLo - 0.01);
+  f.betaHi = ringBound && clip.w <= 0 ? betaHi : std::min(kPi, betaHi + 0.01);
   if (!(f.betaHi > f.betaLo + 1e-6)) f.betaHi = std::min(kPi, f.betaLo + 1e-3);
   if (in.directional) {
     f.gammaAll = std::max(gammaAll * 1.02, 1e-6 * sceneScale);

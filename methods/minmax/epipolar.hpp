@@ -38,6 +38,7 @@ struct ViewInput {
   bool directional = false;
   glm::dvec3 lightPos{0.0}, lightTravelDir{0, -1, 0};
   glm::dvec3 boundsLo{-1.0}, boundsHi{1.0};  // scene geometry
+  double epipoleRadius = 0.0;  // pixels around the epipole that the Near Epipole pass ray-marches
 };
 
 struct EpipolarFrame {

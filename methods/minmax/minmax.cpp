@@ -83,7 +83,7 @@ std::vector<ParamSpec> MinmaxMethod::params() const {
 }
 
 std::vector<std::string> MinmaxMethod::qualityLadder() const {
-  return {"slices=128:rank=2:res=256", "slices=512:rank=3:res=512", "rank=4", "rank=6:epipole_steps=512"};
+  return {"slices=128:rank=2:res=256", "slices=512:rank=3:res=512", "slices=512:rank=4", "rank=6:epipole_steps=512"};
 }
 
 void MinmaxMethod::setup(const SetupContext& context, const ParamValues& params) {
@@ -159,6 +159,7 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
     in.lightTravelDir = glm::dvec3(fu.lightDir);
     in.boundsLo = glm::dvec3(frame.geometry.boundsLo);
     in.boundsHi = glm::dvec3(frame.geometry.boundsHi);
+    in.epipoleRadius = epipoleRadius_;
     epipolar_ = minmax::computeEpipolarFrame(in);
 
     int rank = std::min(rank_, kMaxRank);

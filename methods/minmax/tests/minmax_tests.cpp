@@ -4,6 +4,7 @@
 #include <random>
 
 #include <Eigen/SVD>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "gl_test.hpp"
 #include "harness/metrics.hpp"
@@ -96,6 +97,45 @@ TEST(MinmaxTraversal, TopStartSkipsTheClimbOverALongLitRun) {
   EXPECT_LT(topIterations, leafIterations);
   std::printf("iterations: %d from the first leaf, %d from the top\n", leafIterations, topIterations);
 }
+
+// With the epipole on screen the low-rank grid's beta range starts at the ray-marched disk's edge,
+// not at 0, and no pixel that the Integration pass takes (outside the disk) lies below it; with
+// radius 0 it starts at 0 as before.
+TEST(MinmaxEpipolarFrame, BetaRangeStartsAtTheRayMarchedDisk) {
+  minmax::ViewInput in;
+  in.width = 96;
+  in.height = 72;
+  in.eye = glm::dvec3(0.0, 1.0, 5.0);
+  glm::dvec3 target(0.0, 1.0, 0.0);
+  in.forward = glm::normalize(target - in.eye);
+  glm::dmat4 viewProj = glm::perspective(glm::radians(60.0), 96.0 / 72.0, 0.1, 100.0) *
+                        glm::lookAt(in.eye, target, glm::dvec3(0.0, 1.0, 0.0));
+  in.viewProj = viewProj;
+  in.invViewProj = glm::inverse(viewProj);
+  in.lightPos = glm::dvec3(0.7, 1.4, -3.0);  // in front of the camera: the epipole is on screen
+  in.boundsLo = glm::dvec3(-5.0);
+  in.boundsHi = glm::dvec3(5.0);
+  minmax::EpipolarFrame open = minmax::computeEpipolarFrame(in);
+  ASSERT_TRUE(open.fullCircle);
+  EXPECT_EQ(open.betaLo, 0.0);
+  for (double radius : {2.0, 8.0, 20.0}) {
+    in.epipoleRadius = radius;
+    minmax::EpipolarFrame f = minmax::computeEpipolarFrame(in);
+    EXPECT_GT(f.betaLo, 0.0) << radius;
+    double smallest = 10.0;
+    for (int y = 0; y < in.height; ++y) {
+      for (int x = 0; x < in.width; ++x) {
+        glm::dvec2 pixel(x + 0.5, y + 0.5);
+        if (glm::length(pixel - f.epipolePixel) < radius) continue;  // the Near Epipole pass's
+        glm::dvec3 v = minmax::pixelRay(in, pixel.x, pixel.y);
+        smallest = std::min(smallest, std::acos(std::clamp(glm::dot(v, f.axis), -1.0, 1.0)));
+      }
+    }
+    EXPECT_LE(f.betaLo, smallest) << radius;
+    EXPECT_GT(f.betaLo, 0.9 * smallest) << radius;  // and not much below it
+  }
+}
+
 
 // The low-rank factors (from the eigenproblem of S S^T) against a full SVD of the same 64x64
 // samples truncated to the same rank: the same approximation, for point and directional lights
