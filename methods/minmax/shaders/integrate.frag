@@ -93,21 +93,23 @@ struct Walk {
   bool inRun;
   float runEnd;
   bool done;
+  float start, size;  // the node's texels, kept along the walk instead of a findMSB per step
 };
 
 void traverseRow(int d, float beta, float g0, float g1) {
   g0 = clamp(g0, 0.0, float(d));
   g1 = clamp(g1, 0.0, float(d));
   if (!(g1 > g0)) return;
-  Walk w = Walk(firstNode(d, g0), false, 0.0, false);
+  Walk w = Walk(firstNode(d, g0), false, 0.0, false, 0.0, 0.0);
+  int level0 = treeLevel(w.node);
+  w.size = float(d >> level0);
+  w.start = float(w.node - (1u << level0)) * w.size;
   int budget = 4 * d + 64;
   while (!w.done) {
     float eventSign = 0.0, eventX = 0.0;
     for (; budget > 0; --budget) {
       ++workIterations;
-      int level = treeLevel(w.node);
-      float size = float(d >> level);
-      float start = float(w.node - (1u << level)) * size, end = start + size;
+      float start = w.start, end = start + w.size;
       if (start >= g1) {
         w.done = true;
         break;
@@ -117,6 +119,7 @@ void traverseRow(int d, float beta, float g0, float g1) {
       bool shadowed = !lit && (beta >= m.y || w.node >= uint(d));
       if (!lit && !shadowed) {
         w.node *= 2u;
+        w.size *= 0.5;
         continue;
       }
       float a = max(start, g0), b = min(end, g1);
@@ -127,8 +130,18 @@ void traverseRow(int d, float beta, float g0, float g1) {
       if (lit) w.runEnd = b;
       bool last = end >= g1;
       w.node += 1u;
+      w.start = end;
       last = last || (w.node & (w.node - 1u)) == 0u;
-      if (!last) w.node = climb(w.node);
+      if (!last) {  // a parent starts where its left child does
+#if MINMAX_UP_ONE_LEVEL
+        bool up = (w.node & 1u) == 0u && w.node > 1u;
+        w.node = up ? w.node >> 1 : w.node;
+        w.size *= up ? 2.0 : 1.0;
+#else
+        w.node = climb(w.node);
+        w.size = float(d >> treeLevel(w.node));
+#endif
+      }
       w.done = last;
       if (eventSign != 0.0 || last) {
         --budget;
