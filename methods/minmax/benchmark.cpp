@@ -1,14 +1,18 @@
-// minmax_benchmark: the paper's equal-quality comparison (Chen et al. 2011, Table 1 / Fig. 6) on the
-// built-in scenes room, trees and terrain, a shadow-map resolution sweep, and the pass breakdown.
-// Usage: minmax_benchmark [WIDTHxHEIGHT] (default 256x192). Prints tables; not a test.
+// minmax_benchmark: the paper's equal-quality comparison (Chen et al. 2011, Table 1) and its
+// equal-time images (Fig. 6) on the built-in scenes room, trees and terrain, a shadow-map resolution
+// sweep, and the pass breakdown.
+// Usage: minmax_benchmark [WIDTHxHEIGHT] [--images DIR] (default 256x192; DIR receives the Fig. 6
+// images). Prints tables; not a test.
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "harness/app.hpp"
 #include "harness/context.hpp"
+#include "harness/image.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/thread_pinning.hpp"
@@ -21,7 +25,7 @@ using namespace vs;
 struct Measured {
   MethodRun run;
   double scatterMs = 0;  // the method's own passes (everything but the shared ones)
-  double rmse = 0;
+  double rmse = 0, relmse = 0;
 };
 
 const std::vector<std::string> kSharedPasses = {"Shadow Map", "G Buffer", "Direct Lighting", "Composite", "Frame"};
@@ -39,7 +43,11 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
     for (const auto& s : kSharedPasses) shared = shared || s == name;
     if (!shared) m.scatterMs += stats.medianMs;
   }
-  if (reference) m.rmse = compareImages(m.run.inscatter, *reference).rmse;
+  if (reference) {
+    ErrorMetrics e = compareImages(m.run.inscatter, *reference);
+    m.rmse = e.rmse;
+    m.relmse = e.relmse;
+  }
   return m;
 }
 
@@ -47,9 +55,14 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
 
 int main(int argc, char** argv) {
   int w = 256, h = 192;
-  if (argc > 1 && std::sscanf(argv[1], "%dx%d", &w, &h) != 2) {
-    std::fprintf(stderr, "usage: minmax_benchmark [WIDTHxHEIGHT]\n");
-    return 2;
+  std::string imageDir;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--images") == 0 && i + 1 < argc) {
+      imageDir = argv[++i];
+    } else if (std::sscanf(argv[i], "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192) {
+      std::fprintf(stderr, "usage: minmax_benchmark [WIDTHxHEIGHT] [--images DIR]\n");
+      return 2;
+    }
   }
   GlContext context(false);
   // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
@@ -63,9 +76,9 @@ int main(int argc, char** argv) {
 
   const std::vector<std::string> scenes = {"room", "trees", "terrain"};
   const std::vector<int> steps = {8, 16, 32, 64, 128, 256, 512, 1024};
-  std::map<std::string, Measured> minmaxRuns;
+  std::map<std::string, Measured> minmaxRuns, references;
 
-  std::printf("== Equal quality (Table 1 / Fig. 6), sm=1024 ==\n");
+  std::printf("== Equal quality (Table 1), sm=1024 ==\n");
   std::printf("%-8s %12s %12s %14s %12s %12s %9s\n", "scene", "minmax_rmse", "minmax_ms", "raymarch_steps",
               "rm_rmse", "raymarch_ms", "speedup");
   for (const auto& name : scenes) {
@@ -73,6 +86,7 @@ int main(int argc, char** argv) {
     Measured ref = measure(scene, "raymarch:steps=4096:sm=1024", limits, w, h, 0, nullptr);
     Measured mm = measure(scene, "minmax:sm=1024", limits, w, h, 3, &ref.run.inscatter);
     minmaxRuns[name] = mm;
+    references[name] = ref;
     Measured match;
     int matchSteps = 0;
     for (int n : steps) {
@@ -84,6 +98,58 @@ int main(int argc, char** argv) {
                 match.rmse, match.scatterMs, mm.scatterMs > 0 ? match.scatterMs / mm.scatterMs : 0.0);
     std::fflush(stdout);
   }
+
+  // Fig. 6: minmax at its defaults beside the ray march that takes the same scattering time (the
+  // largest step count within minmax's time, by bisection; times of 3 frames after a warm-up).
+  std::printf("\n== Equal time (Fig. 6), sm=1024: raymarch with the most steps that fit in minmax's scattering time ==\n");
+  std::printf("%-8s %12s %12s %14s %14s %12s %12s %14s\n", "scene", "minmax_ms", "minmax_rmse", "minmax_relmse",
+              "raymarch_steps", "raymarch_ms", "rm_rmse", "rm_relmse");
+  for (const auto& name : scenes) {
+    const Measured& mm = minmaxRuns[name];
+    const Measured& ref = references[name];
+    if (mm.scatterMs <= 0.0 || ref.run.inscatter.empty()) continue;
+    Scene scene = loadScene(name);
+    std::map<int, Measured> tried;
+    auto at = [&](int n) -> const Measured& {
+      auto it = tried.find(n);
+      if (it == tried.end())
+        it = tried.emplace(n, measure(scene, "raymarch:sm=1024:steps=" + std::to_string(n), limits, w, h, 3,
+                                      &ref.run.inscatter)).first;
+      return it->second;
+    };
+    // Bracket by doubling, then bisect to the largest n whose time is within minmax's.
+    int lo = 1, hi = 2;
+    if (at(lo).scatterMs > mm.scatterMs) hi = lo;
+    while (hi < 4096 && at(hi).scatterMs <= mm.scatterMs) {
+      lo = hi;
+      hi *= 2;
+    }
+    while (hi - lo > std::max(1, lo / 32)) {
+      int mid = lo + (hi - lo) / 2;
+      if (at(mid).scatterMs <= mm.scatterMs) lo = mid;
+      else hi = mid;
+    }
+    const Measured& rm = at(lo);
+    std::printf("%-8s %12.1f %12.4e %14.4e %14d %12.1f %12.4e %14.4e\n", name.c_str(), mm.scatterMs, mm.rmse,
+                mm.relmse, lo, rm.scatterMs, rm.rmse, rm.relmse);
+    std::fflush(stdout);
+    if (imageDir.empty() || rm.run.final.empty()) continue;
+    // The final images at the reference's exposure, and L_s error maps at a full scale of 10 % of
+    // the reference's 99th-percentile L_s (its peak, at a light in view, would hide the rest).
+    float exposure = autoExposure(ref.run.final);
+    std::vector<float> values = ref.run.inscatter.rgb;
+    std::nth_element(values.begin(), values.begin() + long(values.size() * 99 / 100), values.end());
+    float scale = std::max(0.1f * values[values.size() * 99 / 100], 1e-12f);
+    const std::string base = imageDir + "/fig6-" + name;
+    writePngTonemapped(base + "-reference.png", ref.run.final, exposure);
+    writePngTonemapped(base + "-minmax.png", mm.run.final, exposure);
+    writePngTonemapped(base + "-raymarch.png", rm.run.final, exposure);
+    writePng8(base + "-minmax-error.png", w, h, falseColourError(mm.run.inscatter, ref.run.inscatter, scale));
+    writePng8(base + "-raymarch-error.png", w, h, falseColourError(rm.run.inscatter, ref.run.inscatter, scale));
+  }
+  if (!imageDir.empty())
+    std::printf("images: fig6-SCENE-{reference,minmax,raymarch}.png (final frames at the reference's exposure) and "
+                "fig6-SCENE-{minmax,raymarch}-error.png (|L_s - reference|, full scale 10 %% of the reference's 99th-percentile L_s)\n");
 
   // The tables below: every figure the median of kRounds rounds, the rows measured in turn in
   // each round (no row pays for being first), [min-max] over the rounds beside it.
