@@ -1,6 +1,7 @@
-// vsv_benchmark: equal quality against raymarch, and the paper's Tables 2 and 3 (pass times
-// against shadow-map size and against N_theta), printed with the renderer string.
-// Usage: vsv_benchmark [WxH] (default 256x192); 3 measured frames per run, Tables 2 and 3 over 3
+// vsv_benchmark: equal quality against raymarch, and the paper's Table 1 (pass times per scene)
+// and Tables 2 and 3 (pass times against shadow-map size and against N_theta), printed with the
+// renderer string.
+// Usage: vsv_benchmark [WxH] (default 256x192); 3 measured frames per run, Tables 1-3 over 3
 // interleaved rounds.
 #include <algorithm>
 #include <cstdio>
@@ -9,6 +10,7 @@
 
 #include "harness/app.hpp"
 #include "harness/context.hpp"
+#include "harness/frame.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/thread_pinning.hpp"
@@ -21,7 +23,11 @@ using namespace vs;
 
 int main(int argc, char** argv) {
   int width = 256, height = 192;
-  if (argc > 1) std::sscanf(argv[1], "%dx%d", &width, &height);
+  if (argc > 2 || (argc > 1 && (std::sscanf(argv[1], "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
+                                width > 8192 || height > 8192))) {
+    std::fprintf(stderr, "usage: vsv_benchmark [WIDTHxHEIGHT]\n");
+    return 2;
+  }
   GlContext context(false);
   // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
   const std::string pinning = describe(pinDriverThreads("on", true));
@@ -75,6 +81,33 @@ int main(int argc, char** argv) {
   auto cell = [](const std::vector<MethodRun>& runs, const char* pass) {
     return spreadCell(spreadOf(runs, [pass](const MethodRun& r) { return r.passMs(pass); }));
   };
+  auto scatterCell = [](const std::vector<MethodRun>& runs) {
+    return spreadCell(spreadOf(runs, [](const MethodRun& r) {
+      double ms = 0.0;
+      for (const auto& [pass, stats] : r.passStats)
+        if (!isSharedPass(pass)) ms += stats.medianMs;
+      return ms;
+    }));
+  };
+  std::printf("\n## Table 1: pass times (ms) per scene, vsv defaults (sm=1024) with the paper's voxelizer (fused=0), and fused\n");
+  std::printf("Each cell: median over %d interleaved rounds (each scene's two rows in turn) of the pass's median over 3 "
+              "frames, [min–max] over the rounds. Own passes: everything but the shared Shadow Map, G Buffer, Direct "
+              "Lighting and Composite.\n", kRounds);
+  std::printf("| scene | Shadow Map | G Buffer | Epipolar Ranges | Voxelize: From SM | Scan VSV | Compute L_s | own passes "
+              "| fused Voxelize: From SM | fused own passes |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
+    Scene s1 = loadScene(name);
+    auto t1 = runInterleaved(s1, {"vsv:fused=0:sm=1024", "vsv:fused=1:sm=1024"}, limits, width, height, options.frames,
+                             kRounds);
+    const auto &paper = t1[0], &fused = t1[1];
+    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name, cell(paper, "Shadow Map").c_str(),
+                cell(paper, "G Buffer").c_str(), cell(paper, "Epipolar Ranges").c_str(),
+                cell(paper, "Voxelize: From SM").c_str(), cell(paper, "Scan VSV").c_str(),
+                cell(paper, "Compute L_s").c_str(), scatterCell(paper).c_str(), cell(fused, "Voxelize: From SM").c_str(),
+                scatterCell(fused).c_str());
+    std::fflush(stdout);
+  }
+
   std::printf("\n## Table 2 (room): pass times (ms) against shadow-map size, vsv defaults with the paper's voxelizer (fused=0), and fused\n");
   std::printf("Each cell: median over %d interleaved rounds of the pass's median over 3 frames, [min–max] over the rounds.\n", kRounds);
   std::printf("| SM size | Shadow Map | G Buffer | Voxelize: From SM | Scan VSV | Compute L_s | fused Voxelize: From SM |\n|---|---|---|---|---|---|---|\n");
