@@ -151,14 +151,8 @@ struct Measured {
   bool measured = false, exactMeasured = false;
 };
 
-// A row's scattering time: the medians of the method's own passes (the papers exclude the shared
-// shadow map, G-buffer, lighting and composite).
-double scatterMs(const MethodRun& r) {
-  double total = 0.0;
-  for (const auto& [pass, stats] : r.passStats)
-    if (!isSharedPass(pass)) total += stats.medianMs;
-  return total;
-}
+// A row's scattering time (MethodRun::scatterMs).
+double scatterMs(const MethodRun& r) { return r.scatterMs(); }
 
 // A job's timings over interleaved rounds (--rounds): per round its frame, pass and scattering
 // figures. The row shows the median of the rounds' medians and their range.

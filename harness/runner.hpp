@@ -51,6 +51,14 @@ struct MethodRun {
     auto it = passStats.find(pass);
     return it == passStats.end() ? 0.0 : it->second.medianMs;
   }
+  // The scattering time: the medians of the method's own passes (the papers exclude the shared
+  // shadow map, G-buffer, lighting and composite, isSharedPass).
+  double scatterMs() const {
+    double total = 0.0;
+    for (const auto& [pass, stats] : passStats)
+      if (!isSharedPass(pass)) total += stats.medianMs;
+    return total;
+  }
 };
 
 // Scene-wide GPU state shared by every method run at one size.

@@ -28,8 +28,6 @@ struct Measured {
   double rmse = 0, relmse = 0;
 };
 
-const std::vector<std::string> kSharedPasses = {"Shadow Map", "G Buffer", "Direct Lighting", "Composite", "Frame"};
-
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
   Measured m;
@@ -38,11 +36,7 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
     std::printf("  %s: %s\n", spec.c_str(), m.run.reason.c_str());
     return m;
   }
-  for (const auto& [name, stats] : m.run.passStats) {
-    bool shared = false;
-    for (const auto& s : kSharedPasses) shared = shared || s == name;
-    if (!shared) m.scatterMs += stats.medianMs;
-  }
+  m.scatterMs = m.run.scatterMs();
   if (reference) {
     ErrorMetrics e = compareImages(m.run.inscatter, *reference);
     m.rmse = e.rmse;
@@ -154,12 +148,7 @@ int main(int argc, char** argv) {
   // The tables below: every figure the median of kRounds rounds, the rows measured in turn in
   // each round (no row pays for being first), [min-max] over the rounds beside it.
   const int kRounds = 3;
-  auto scatterOf = [](const MethodRun& r) {
-    double ms = 0.0;
-    for (const auto& [name, stats] : r.passStats)
-      if (std::find(kSharedPasses.begin(), kSharedPasses.end(), name) == kSharedPasses.end()) ms += stats.medianMs;
-    return ms;
-  };
+  auto scatterOf = [](const MethodRun& r) { return r.scatterMs(); };
 
   std::printf("\n== Shadow-map resolution: minmax scattering time (ms), median [min–max] of %d interleaved rounds ==\n",
               kRounds);

@@ -10,7 +10,6 @@
 
 #include "harness/app.hpp"
 #include "harness/context.hpp"
-#include "harness/frame.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/thread_pinning.hpp"
@@ -82,12 +81,7 @@ int main(int argc, char** argv) {
     return spreadCell(spreadOf(runs, [pass](const MethodRun& r) { return r.passMs(pass); }));
   };
   auto scatterCell = [](const std::vector<MethodRun>& runs) {
-    return spreadCell(spreadOf(runs, [](const MethodRun& r) {
-      double ms = 0.0;
-      for (const auto& [pass, stats] : r.passStats)
-        if (!isSharedPass(pass)) ms += stats.medianMs;
-      return ms;
-    }));
+    return spreadCell(spreadOf(runs, [](const MethodRun& r) { return r.scatterMs(); }));
   };
   std::printf("\n## Table 1: pass times (ms) per scene, vsv defaults (sm=1024) with the paper's voxelizer (fused=0), and fused\n");
   std::printf("Each cell: median over %d interleaved rounds (each scene's two rows in turn) of the pass's median over 3 "
