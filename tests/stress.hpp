@@ -34,11 +34,12 @@ struct StressSummary {
 // 32x24, within L_s relMSE 4.3e-6 of 4096 over 150 configurations (every light type, volume data);
 // 1.7e-3 in the densest haze of the 10,000 (config 9458, where 64 uniform steps are at 1.4).
 constexpr int kStressReferenceSteps = 1024;
-// The same for area lights, whose reference marches 64 light samples per step (about 1.2 s a
-// configuration at 1024 steps, half the reference's time over the 10,000): equiangular 256 steps
-// are within L_s relMSE 6.6e-8 of 4096 on the first 13 area-light configurations of seed 1 and on
-// config 1152, ivsv's worst, where ivsv is at 1.7e-3 (`scripts/stress-reference-check`).
-constexpr int kStressAreaReferenceSteps = 256;
+// The same for area lights, whose reference marches 64 light samples per step, each with its own
+// shadow map: 256 steps took 290-450 ms a configuration, two fifths of the reference's time over the
+// 10,000. Equiangular 64 steps take 140-220 ms and are within L_s relMSE 1.3e-5 of 4096 on config
+// 1152, ivsv's worst (ivsv: 1.7e-3), and at least 79x below ivsv's error on the first 13 area-light
+// configurations of seed 1 (`scripts/stress-reference-check --area`).
+constexpr int kStressAreaReferenceSteps = 64;
 // Shadow-map size of every method in the stress, and of the reference (area lights: every light sample's);
 // the most texels per side of a method's own maps (its "res").
 constexpr int kStressShadowMap = 256;
