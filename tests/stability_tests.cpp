@@ -6,7 +6,9 @@
 #include <cstdlib>
 
 #include "gl_test.hpp"
+#include "bad_inputs.hpp"
 #include "hard_cases.hpp"
+#include "stability_report.hpp"
 #include "stress.hpp"
 #include "harness/metrics.hpp"
 #include "harness/results.hpp"
@@ -139,6 +141,52 @@ TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
   EXPECT_NEAR(mergedSeconds, partsSeconds, 1e-9);
   EXPECT_GT(wholeReference, 0.0);
   EXPECT_GT(partsReference, 0.0);
+}
+
+TEST_F(StressShardTest, ReportRowsOfTheShardsMergeToTheWholeRunsRows) {
+  // Each shard computes every shards-th hard-case and bad-input row of the report and writes them to
+  // its partial file; the rows merged from the files must be those of one unsharded run.
+  std::vector<std::string> methods = {"raymarch", "vsv"};
+  std::vector<size_t> cases = {1, 2, 5}, inputs = {0, 3, 8};  // 5: singular
+  ReportRows whole = computeReportRows(methods, 0, 1, cases, inputs);
+  ReportRows merged;
+  int calls = 0;
+  for (int shard = 0; shard < 2; ++shard) {
+    ReportRows part = computeReportRows(methods, shard, 2, cases, inputs, [&](int, int) { ++calls; });
+    std::string file = reportRowsJson(part).dump();
+    merged.merge(reportRowsFromJson(nlohmann::json::parse(file), methods.size()));
+    if (shard == 0) {
+      EXPECT_THROW(merged.merge(part), std::runtime_error);  // a shard given twice
+    }
+  }
+  EXPECT_EQ(calls, 6);  // progress once per row
+  ASSERT_EQ(merged.hardCases.size(), cases.size());
+  ASSERT_EQ(merged.badInputs.size(), inputs.size());
+  for (size_t i = 0; i < cases.size(); ++i) {
+    EXPECT_EQ(merged.hardCases[i].index, cases[i]);
+    EXPECT_EQ(merged.hardCases[i].cells, whole.hardCases[i].cells) << hardCases()[cases[i]].name;
+    ASSERT_EQ(merged.hardCases[i].cells.size(), methods.size());
+    for (const std::string& cell : merged.hardCases[i].cells) EXPECT_EQ(cell.find("Failure"), std::string::npos) << cell;
+  }
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    EXPECT_EQ(merged.badInputs[i].index, inputs[i]);
+    EXPECT_EQ(merged.badInputs[i].exitCode, 2) << badInputs()[inputs[i]].name;
+    EXPECT_EQ(merged.badInputs[i].message, whole.badInputs[i].message);
+    EXPECT_NE(merged.badInputs[i].message.find(badInputs()[inputs[i]].expectInError), std::string::npos)
+        << merged.badInputs[i].message;
+  }
+  EXPECT_EQ(reportRowsMarkdown(methods, merged), reportRowsMarkdown(methods, whole));
+  // A merge that lacks rows says which; a file from another build's cases or methods is refused.
+  try {
+    merged.checkComplete();
+    ADD_FAILURE() << "three of the hard cases passed for all of them";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'" + hardCases()[0].name + "'"), std::string::npos) << e.what();
+  }
+  nlohmann::json file = reportRowsJson(merged);
+  EXPECT_THROW(reportRowsFromJson(file, methods.size() + 1), std::runtime_error);
+  file["hard_cases"][0]["case"] = "renamed";
+  EXPECT_THROW(reportRowsFromJson(file, methods.size()), std::runtime_error);
 }
 
 TEST_F(StressShardTest, PrintedConfigurationRendersAsTheStressedOne) {

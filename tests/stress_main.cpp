@@ -14,12 +14,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "bad_inputs.hpp"
 #include "gl_test.hpp"
-#include "hard_cases.hpp"
-#include "harness/metrics.hpp"
 #include "harness/progress.hpp"
 #include "harness/results.hpp"
+#include "stability_report.hpp"
 #include "stress.hpp"
 
 namespace vs {
@@ -32,50 +30,16 @@ using json = nlohmann::json;
 
 namespace {
 
-std::string hardCaseCell(const HardCase& hard, const std::string& methodName) {
-  Scene scene = sceneFromJson(hard.json);
-  auto method = createMethod(methodName);
-  std::string spec = methodName + ":sm=512";
-  ResolvedSpec resolved = resolveSpec(spec, glLimits());
-  if (!method->unsupportedReason(scene, resolved.params).empty()) return "unsupported";
-  RunOptions options;
-  options.width = 64;
-  options.height = 48;
-  options.frames = 1;
-  options.warmup = 0;
-  MethodRun run = renderScene(scene, spec, options);
-  if (run.status != RunStatus::Success) return "**Failure**: " + run.reason;
-  size_t bad = 0;
-  for (float v : run.inscatter.rgb) bad += !(std::isfinite(v) && v >= 0.0f);
-  for (float v : run.final.rgb) bad += !(std::isfinite(v) && v >= 0.0f);
-  if (bad) return "**" + std::to_string(bad) + " bad values**";
-  if (hard.singular) return "finite (singular)";
-  // One cache for the report: the case's reference is rendered once, not once per method.
-  static const std::string referenceCache = makeTempDir("report-ref");
-  Reference ref = obtainReference(scene, glLimits(), options, 512, referenceCache);
-  return num(compareImages(run.inscatter, ref.inscatter).relmse);
-}
-
 std::string secondsText(double s) {
   char text[32];
   std::snprintf(text, sizeof text, s < 100 ? "%.1f" : "%.0f", s);
   return text;
 }
 
-std::string firstLine(const std::string& s) {
-  auto end = s.find('\n');
-  return s.substr(0, end);
-}
-
-std::string escapeCell(std::string s) {
-  std::string out;
-  for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
-  return out;
-}
-
 // Wall-clock seconds of a stress run (shards: summed): all of it, and the reference's renders.
 struct StressTimes {
   double total = 0, reference = 0;
+  double rows = 0;  // the hard-case and bad-input rows
 };
 
 json summaryJson(const StressSummary& s) {
@@ -108,7 +72,7 @@ StressSummary summaryFromJson(const json& j) {
 // methods, every shard exactly once. Throws std::runtime_error naming the file at fault.
 std::vector<StressSummary> mergePartials(const std::vector<std::string>& files, StressOptions& options,
                                          std::vector<std::string>& methods, std::string& revision,
-                                         StressTimes& times) {
+                                         StressTimes& times, ReportRows& rows) {
   std::vector<StressSummary> merged;
   std::vector<bool> seen;
   for (const std::string& file : files) {
@@ -142,6 +106,8 @@ std::vector<StressSummary> mergePartials(const std::vector<std::string>& files, 
       }
       times.reference += j.at("reference_seconds").get<double>();
       times.total += j.at("seconds").get<double>();
+      times.rows += j.at("rows_seconds").get<double>();
+      rows.merge(reportRowsFromJson(j.at("rows"), methods.size()));
       if (shard < 0 || shard >= options.shards) throw std::runtime_error("shard " + std::to_string(shard) + " out of range");
       if (seen[size_t(shard)]) throw std::runtime_error("shard " + std::to_string(shard) + " given twice");
       seen[size_t(shard)] = true;
@@ -206,9 +172,11 @@ int main(int argc, char** argv) {
   std::vector<StressSummary> summaries;
   std::string revision = buildGitSha();
   StressTimes times;
+  ReportRows rows;
   if (!mergeFiles.empty()) {
     try {
-      summaries = mergePartials(mergeFiles, options, methods, revision, times);
+      summaries = mergePartials(mergeFiles, options, methods, revision, times, rows);
+      if (!report.empty()) rows.checkComplete();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "vshadow_stress: error: %s\n", e.what());
       return 2;
@@ -222,6 +190,16 @@ int main(int argc, char** argv) {
                           &times.reference);
     times.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.finished("done");
+    // The report's other rows: this shard's share when it is to be merged, all of them for a report.
+    if (!partial.empty() || !report.empty()) {
+      Progress rowsProgress(1);
+      rowsProgress.item(0, "hard cases and bad inputs" + (options.shards > 1 ? ", shard " + shardText : std::string()));
+      start = std::chrono::steady_clock::now();
+      rows = computeReportRows(methods, options.shard, options.shards,
+                               [&](int done, int total) { rowsProgress.frames(done, total); });
+      times.rows = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      rowsProgress.finished("done");
+    }
   }
   int problems = 0;
   for (const auto& s : summaries) {
@@ -237,6 +215,7 @@ int main(int argc, char** argv) {
               {"height", options.height}, {"shard", options.shard},     {"shards", options.shards},
               {"revision", revision},     {"renderer", contextInfo().glRenderer},
               {"seconds", times.total},   {"reference_seconds", times.reference},
+              {"rows_seconds", times.rows}, {"rows", reportRowsJson(rows)},
               {"methods", json::array()}};
     for (const auto& s : summaries) j["methods"].push_back(summaryJson(s));
     writeFileAtomic(partial, j.dump(1) + "\n");
@@ -284,34 +263,9 @@ int main(int argc, char** argv) {
      << secondsText(times.reference) << " s, and the scenes' set-up the rest.\n";
 
   if (!report.empty()) {
-    md << "\n## Hard cases\n\nL_s relMSE against the reference at 64x48 (each method at its defaults, shadow map "
-          "512); \"singular\": the light sits on the camera ray origin, where the integral diverges, so only "
-          "finiteness is checked.\n\n| case |";
-    for (const auto& m : methods) md << " " << m << " |";
-    md << "\n|---|";
-    for (size_t i = 0; i < methods.size(); ++i) md << "---|";
-    md << "\n";
-    for (const auto& hard : hardCases()) {
-      md << "| " << hard.name << " |";
-      for (const auto& m : methods) md << " " << escapeCell(hardCaseCell(hard, m)) << " |";
-      md << "\n";
-    }
-    md << "\n## Bad inputs\n\nWhat the user sees (`vshadow` exit status and its one line on stderr; nothing is written).\n\n"
-       << "| input | exit | message |\n|---|---|---|\n";
-    std::string dir = makeTempDir("report-bad");
-    writeBadInputFixtures(dir);
-    for (const auto& bad : badInputs()) {
-      std::vector<std::string> args = badInputArgs(bad, dir);
-      if (std::find(args.begin(), args.end(), "--out") == args.end()) args.insert(args.end(), {"--out", dir + "/out"});
-      CommandResult r = runVshadow(args);
-      std::string message = firstLine(r.err);
-      auto pos = message.find(dir);
-      while (pos != std::string::npos) {
-        message.replace(pos, dir.size(), "DIR");
-        pos = message.find(dir);
-      }
-      md << "| " << bad.what << " | " << r.exitCode << " | `" << escapeCell(message) << "` |\n";
-    }
+    md << "Hard cases and bad inputs: " << secondsText(times.rows) << " s"
+       << (options.shards > 1 ? " summed over the shards, each of which has its share of their rows" : "") << ".\n\n"
+       << reportRowsMarkdown(methods, rows);
     writeFileAtomic(report, md.str());
     std::printf("report: %s\n", report.c_str());
   }
