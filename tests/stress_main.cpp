@@ -3,11 +3,8 @@
 //   On a cluster: vshadow_stress --shard K/N --partial K.json on every node, then
 //   vshadow_stress --merge 0.json ... --report FILE.md
 //   vshadow_stress --print-config N [--seed S] > config.json: configuration N as a scene file
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
