@@ -1,7 +1,8 @@
 // vshadow_stress: randomized stress of every method, and the stability report.
 //   vshadow_stress [--configs 10000] [--seed 1] [--method NAME ...] [--report FILE.md]
 //   On a cluster: vshadow_stress --shard K/N --partial K.json on every node, then
-//   vshadow_stress --merge 0.json ... --report FILE.md
+//   vshadow_stress --merge 0.json ... --report FILE.md (each shard also computes its share of the
+//   report's hard-case and bad-input rows; the merge assembles them)
 //   vshadow_stress --print-config N [--seed S] > config.json: configuration N as a scene file
 #include <CLI/CLI.hpp>
 #include <chrono>
