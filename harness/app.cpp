@@ -18,6 +18,7 @@
 #include <tuple>
 
 #include "context.hpp"
+#include "drift.hpp"
 #include "ground_truth.hpp"
 #include "metrics.hpp"
 #include "progress.hpp"
@@ -83,6 +84,7 @@ struct Job {
   std::string label;
   std::string method;
   ParamValues params;
+  std::string series;  // the ladder series its rung comes from (Method::qualitySeries), if named
 };
 
 }  // namespace
@@ -110,9 +112,15 @@ int listCommand(const MethodRegistry& registry) {
     for (const auto& p : allParams(*m, 16384))
       std::printf("    %-12s default %-8s %-24s %s\n", p.name.c_str(), p.defaultValue.c_str(), p.rangeText().c_str(),
                   p.description.c_str());
-    std::string ladder;
-    for (const auto& l : m->qualityLadder()) ladder += (ladder.empty() ? "" : "  ") + (l.empty() ? "defaults" : l);
-    std::printf("    shootout ladder: %s\n", ladder.c_str());
+    // The ladder of a point-light scene (a method may add series for some lights).
+    Effects pointLight;
+    pointLight.scattering = true;
+    for (const auto& series : m->qualitySeries(pointLight)) {
+      std::string ladder;
+      for (const auto& l : series.rungs) ladder += (ladder.empty() ? "" : "  ") + (l.empty() ? "defaults" : l);
+      std::printf("    shootout ladder%s: %s\n",
+                  series.name.empty() ? "" : (" (" + series.name + ", point and spot lights)").c_str(), ladder.c_str());
+    }
   }
   return 0;
 }
@@ -372,35 +380,37 @@ void planJobs(RunPlan& plan, const RunRequest& req, bool shootout, const MethodR
                      " pixels per side");
   std::string volumeProblem = volumeLimitProblem(plan.scene, limits);
   if (!volumeProblem.empty()) throw UsageError(plan.scene.source + ": " + volumeProblem);
-  std::vector<std::string> specs;
-  if (shootout) {
-    for (const auto& info : registry) {
-      if (!req.methods.empty() && std::find(req.methods.begin(), req.methods.end(), info.name) == req.methods.end())
-        continue;
-      auto method = info.create();
-      const std::vector<std::string> ladder = method->qualityLadder();
-      // A point-light method meets an area light behind the per-VPL wrapper: its naive baseline.
-      std::string wrap;
-      if (deriveEffects(plan.scene).areaLight &&
-          !unsupportedReason(plan.scene, *method, resolveSpec(info.name, limits, registry).params).empty() &&
-          unsupportedReason(plan.scene, *method,
-                            resolveSpec(info.name + ":vpls=" + std::to_string(kShootoutVpls), limits, registry).params)
-              .empty())
-        wrap = ":vpls=" + std::to_string(kShootoutVpls);
-      for (size_t index : pickRungs(req.rungs, ladder.size())) {
-        const std::string& rung = ladder[index];
-        std::string spec = info.name + (rung.empty() ? "" : ":" + rung) + wrap;
-        specs.push_back(spec);
-        // A method that cannot render the scene gets one row saying why, not one per rung.
-        if (!unsupportedReason(plan.scene, *method, resolveSpec(spec, limits, registry).params).empty()) break;
-      }
+  if (!shootout) {
+    for (const auto& spec : req.methods) {
+      ResolvedSpec r = resolveSpec(spec, limits, registry);
+      plan.jobs.push_back({r.method + " " + r.params.canonical(), r.method, r.params, ""});
     }
-  } else {
-    specs = req.methods;
+    return;
   }
-  for (const auto& spec : specs) {
-    ResolvedSpec r = resolveSpec(spec, limits, registry);
-    plan.jobs.push_back({r.method + " " + r.params.canonical(), r.method, r.params});
+  const bool areaLight = plan.effects.areaLight;
+  for (const auto& info : registry) {
+    if (!req.methods.empty() && std::find(req.methods.begin(), req.methods.end(), info.name) == req.methods.end())
+      continue;
+    auto method = info.create();
+    // A point-light method meets an area light behind the per-VPL wrapper: its naive baseline.
+    std::string wrap;
+    if (areaLight && !unsupportedReason(plan.scene, *method, resolveSpec(info.name, limits, registry).params).empty() &&
+        unsupportedReason(plan.scene, *method,
+                          resolveSpec(info.name + ":vpls=" + std::to_string(kShootoutVpls), limits, registry).params)
+            .empty())
+      wrap = ":vpls=" + std::to_string(kShootoutVpls);
+    for (const auto& series : method->qualitySeries(plan.effects)) {
+      bool unsupported = false;
+      for (size_t index : pickRungs(req.rungs, series.rungs.size())) {
+        const std::string& rung = series.rungs[index];
+        ResolvedSpec r = resolveSpec(info.name + (rung.empty() ? "" : ":" + rung) + wrap, limits, registry);
+        plan.jobs.push_back({r.method + " " + r.params.canonical(), r.method, r.params, series.name});
+        // A method that cannot render the scene gets one row saying why, not one per rung.
+        unsupported = !unsupportedReason(plan.scene, *method, r.params).empty();
+        if (unsupported) break;
+      }
+      if (unsupported) break;
+    }
   }
 }
 
@@ -648,19 +658,24 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
 
 // Times each reached baseline of a row once more, as the rows are timed: the speedups are ratios
 // of figures measured side by side in every round (a baseline never reached keeps the bisection's
-// time, a lower bound).
-void timeMatchedBaselines(RowMatches& matches, Runner& runner, const MethodRegistry& registry,
-                          const gl::Limits& limits, EqualQuality& eq, int sm, Progress& progress) {
-  for (auto& b : matches.baselines) {
-    if (!b.match.reached) continue;
+// time, a lower bound). Returns this round's time per baseline of `matches` (0 for one not reached).
+std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const MethodRegistry& registry,
+                                         const gl::Limits& limits, EqualQuality& eq, int sm, Progress& progress) {
+  std::vector<double> ms;
+  for (const auto& b : matches.baselines) {
+    if (!b.match.reached) {
+      ms.push_back(0.0);
+      continue;
+    }
     progress.note("equal quality: timing " + b.spec);
     ResolvedSpec spec = resolveSpec(b.spec, limits, registry);
     auto method = createMethod(registry, spec.method);
     MethodRun run = runner.run(*method, spec.params);
     // A round whose run failed keeps the rounds aligned with the search's own timing of the match.
-    b.roundMs.push_back(run.status == RunStatus::Success ? scatterMs(run)
-                                                         : std::max(eq.timeAt(b.sampling, sm, b.match.steps), 0.0));
+    ms.push_back(run.status == RunStatus::Success ? scatterMs(run)
+                                                  : std::max(eq.timeAt(b.sampling, sm, b.match.steps), 0.0));
   }
+  return ms;
 }
 
 // Fills the equal-quality columns of a successful row from its matches and the rounds' times.
@@ -742,8 +757,224 @@ std::string jobSummary(const Measured& m) {
   return s;
 }
 
+// The timer strategy: calibrated (--timer auto) or chosen.
+TimerCalibration chooseTimer(const std::string& choice) {
+  if (choice == "auto") return calibrateTimer();
+  TimerCalibration calibration;
+  calibration.chosen = choice == "gpu" ? TimerStrategy::GpuTimestamp : TimerStrategy::WallClock;
+  calibration.reason = "chosen with --timer";
+  return calibration;
+}
+
+RunOptions runOptionsFor(const RunRequest& req, const RunPlan& plan, TimerStrategy timer) {
+  RunOptions options;
+  options.width = plan.width;
+  options.height = plan.height;
+  options.frames = req.frames;
+  options.warmup = req.warmup;
+  options.minTimeMs = req.minTimeMs;
+  options.seed = uint32_t(req.seed);
+  options.timer = timer;
+  options.workCounters = true;
+  return options;
+}
+
+// What run and shootout write with every row, fixed for the run.
+struct RowContext {
+  const RunRequest& req;
+  const RunPlan& plan;
+  const Baselines& base;
+  std::string timer, renderer, date;
+};
+
+// The measuring stage: every job once per round, in turn (A B C, A B C); the first round renders
+// the images and errors, later rounds only time. Each row's round (the row and its matched
+// baselines) runs between two timings of the calibration workload and again when the machine's
+// speed moved meanwhile (DriftGuard). A row is written after each of its rounds, so an interrupted
+// run keeps every finished row.
+class Measurement {
+ public:
+  Measurement(const RowContext& rows, const MethodRegistry& registry, const gl::Limits& limits,
+              const RunOptions& options, ResultFiles& files, Progress& progress)
+      : rows_(rows), registry_(registry), limits_(limits), files_(files), progress_(progress),
+        runner_(rows.plan.scene, limits, options),
+        guard_([this] { return probe().measure(); },
+               DriftPolicy{rows.req.driftThresholdPct, rows.req.driftRetries, rows.req.driftThresholdPct > 0.0}),
+        firsts_(rows.plan.jobs.size()), timings_(rows.plan.jobs.size()), matches_(rows.plan.jobs.size()),
+        drift_(rows.plan.jobs.size()) {
+    const RunPlan& plan = rows.plan;
+    // Later rounds only time: no images, errors or work counters (those come from the first).
+    RunOptions later = options;
+    later.workCounters = false;
+    if (rows.req.rounds > 1 || rows.req.equalQuality || guard_.policy().enabled)
+      laterRunner_ = std::make_unique<Runner>(plan.scene, limits, later);
+    if (rows.req.equalQuality && plan.haveReference && plan.effects.scattering)
+      equalQuality_ = std::make_unique<EqualQuality>(
+          plan, limits, registry, options,
+          plan.equalQualityExact ? rows.base.exact.inscatter : rows.base.reference.inscatter, progress);
+  }
+  bool equalQuality() const { return equalQuality_ != nullptr; }
+
+  // Runs every round of every job; returns the number of failed rows.
+  int runAll(int& item) {
+    std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr",
+                "ssim");
+    for (int round = 0; round < rows_.req.rounds; ++round)
+      for (size_t j = 0; j < rows_.plan.jobs.size(); ++j) {
+        if (round > 0 && firsts_[j].run.status != RunStatus::Success) continue;  // its row is written
+        const Job& job = rows_.plan.jobs[j];
+        progress_.item(item++, rows_.req.rounds > 1 ? job.label + " (round " + std::to_string(round + 1) + "/" +
+                                                          std::to_string(rows_.req.rounds) + ")"
+                                                    : job.label);
+        measureRound(j, round);
+        writeRow(j, round);
+      }
+    return failures_;
+  }
+
+  // The calibration's figures for meta.json.
+  json driftJson() const {
+    json samples = json::array();
+    for (const CalibrationSample& c : guard_.history()) samples.push_back({{"draw_ms", c.drawMs}, {"compute_ms", c.computeMs}});
+    int disturbedRows = 0;
+    double driftMax = 0.0, shiftMax = 0.0;
+    for (const RowDrift& d : drift_) {
+      disturbedRows += d.disturbed ? 1 : 0;
+      driftMax = std::max(driftMax, d.driftPct);
+      shiftMax = std::max(shiftMax, d.shiftPct);
+    }
+    const DriftPolicy& p = guard_.policy();
+    return {{"enabled", p.enabled},
+            {"threshold_pct", p.thresholdPct},
+            {"max_retries", p.maxRetries},
+            {"workload", probe_ ? json{{"draw_iterations", probe_->drawIterations()},
+                                       {"compute_iterations", probe_->computeIterations()},
+                                       {"size", "256x256 fragments; 256x256 invocations"}}
+                                : json(nullptr)},
+            {"samples", samples},
+            {"drift_max_pct", driftMax},
+            {"shift_max_pct", shiftMax},
+            {"disturbed_rounds", guard_.disturbedRounds()},
+            {"retries", guard_.retries()},
+            {"disturbed_rows", disturbedRows}};
+  }
+
+ private:
+  CalibrationProbe& probe() {
+    if (!probe_) probe_ = std::make_unique<CalibrationProbe>();
+    return *probe_;
+  }
+
+  // One round of job j, guarded: run again while the calibration around it moved.
+  void measureRound(size_t j, int round) {
+    const Job& job = rows_.plan.jobs[j];
+    Measured& first = firsts_[j];
+    MethodRun kept;  // this round's timings
+    kept.status = RunStatus::Failure;
+    std::vector<double> baselineMs;
+    GuardedRound guarded = guard_.run([&](int attempt) {
+      if (attempt > 0) progress_.note("round disturbed (calibration moved " + num(guardLastDrift()) + " %): timing " +
+                                      job.label + " again");
+      if (round == 0 && attempt == 0) {
+        measureFirst(j);
+        if (first.run.status != RunStatus::Success) return false;
+        kept = first.run;
+      } else {
+        auto method = createMethod(registry_, job.method);
+        kept = laterRunner_->run(*method, job.params, [&](int done, int total) { progress_.frames(done, total); });
+      }
+      if (equalQuality_)
+        baselineMs = timeMatchedBaselines(matches_[j], *laterRunner_, registry_, limits_, *equalQuality_,
+                                          first.run.shadowMapSize, progress_);
+      return kept.status == RunStatus::Success;
+    });
+    if (guard_.takeFirstWarning())
+      progress_.note("warning: the machine's speed changed during a round (calibration moved " +
+                     num(std::max(guarded.driftPct, guarded.shiftPct)) + " %, threshold " +
+                     num(guard_.policy().thresholdPct) + " %); disturbed rounds are repeated up to " +
+                     std::to_string(guard_.policy().maxRetries) +
+                     " times and rows still measured so are marked disturbed=1 in runs.csv");
+    if (kept.status != RunStatus::Success) return;
+    timings_[j].add(kept);
+    drift_[j].add(guarded);
+    for (size_t b = 0; b < baselineMs.size(); ++b)
+      if (matches_[j].baselines[b].match.reached) matches_[j].baselines[b].roundMs.push_back(baselineMs[b]);
+  }
+  double guardLastDrift() const {
+    const auto& h = guard_.history();
+    return h.size() < 2 ? 0.0 : calibrationChangePct(h[h.size() - 2], h.back());
+  }
+
+  // The first round's run: images, errors, work counters, and the equal-quality bisection.
+  void measureFirst(size_t j) {
+    Measured& first = firsts_[j];
+    first = measureJob(runner_, rows_.plan.jobs[j], registry_, rows_.plan, rows_.base, progress_);
+    if (first.run.status == RunStatus::Failure) ++failures_;
+    if (first.run.status != RunStatus::Success) progress_.skip(rows_.req.rounds - 1);  // no later rounds
+    files_.writeImages(first.run, rows_.base, rows_.plan.haveReference);
+    first.run.inscatter = Image();  // the errors are measured: the images are not kept
+    first.run.final = Image();
+    if (equalQuality_) matches_[j] = matchRow(first, *equalQuality_, rows_.plan);
+  }
+
+  // The row of job j after `round`: the first round's errors with the rounds' timings so far.
+  void writeRow(size_t j, int round) {
+    Measured m = firsts_[j];
+    const RoundTimings& t = timings_[j];
+    if (m.run.status == RunStatus::Success && t.count() > 1) {
+      m.run.frame = combineRounds(t.frame);
+      for (auto& [pass, stats] : m.run.passStats)
+        if (t.passes.count(pass)) stats = combineRounds(t.passes.at(pass));
+    }
+    const MethodRun& r = m.run;
+    const RunPlan& plan = rows_.plan;
+    ResultRow row = runRow(m, plan, rows_.req, rows_.base, rows_.timer, rows_.renderer, rows_.date);
+    row.set("series", plan.jobs[j].series);
+    if (r.status == RunStatus::Success && t.count() > 0) {
+      row.set("scatter_ms", scatterMs(r)).set("rounds", t.count());
+      auto [frameLo, frameHi] = roundRange(t.frame);
+      row.set("frame_round_min_ms", frameLo).set("frame_round_max_ms", frameHi);
+      row.set("scatter_round_min_ms", *std::min_element(t.scatter.begin(), t.scatter.end()));
+      row.set("scatter_round_max_ms", *std::max_element(t.scatter.begin(), t.scatter.end()));
+      if (guard_.policy().enabled) {
+        const RowDrift& d = drift_[j];
+        row.set("calibration_drift_pct", d.driftPct).set("calibration_shift_pct", d.shiftPct);
+        row.set("disturbed", d.disturbed ? "1" : "0").set("disturbed_retries", d.retries);
+      }
+    }
+    bool lastRound = round == rows_.req.rounds - 1;
+    if (equalQuality_ && lastRound) addEqualQuality(row, m, matches_[j], *equalQuality_, plan, t.scatter);
+    files_.addRows(row, r, plan.scene.name, rows_.timer, rows_.renderer, t);
+    progress_.finished(jobSummary(m) + (drift_[j].disturbed ? " (disturbed)" : ""));
+    if (!lastRound && r.status == RunStatus::Success) return;  // printed once, after the last round
+    bool ok = r.status == RunStatus::Success;
+    std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", r.method.c_str(), r.params.c_str(), runStatusName(r.status),
+                ok ? num(r.frame.medianMs).c_str() : "-", m.measured ? num(m.finalErr.rmse).c_str() : "-",
+                m.measured ? num(m.finalErr.psnr).c_str() : "-", m.measured ? num(m.finalErr.ssim).c_str() : "-");
+    std::fflush(stdout);
+  }
+
+  const RowContext& rows_;
+  const MethodRegistry& registry_;
+  const gl::Limits& limits_;
+  ResultFiles& files_;
+  Progress& progress_;
+  Runner runner_;
+  std::unique_ptr<Runner> laterRunner_;
+  std::unique_ptr<EqualQuality> equalQuality_;
+  std::unique_ptr<CalibrationProbe> probe_;
+  DriftGuard guard_;
+  std::vector<Measured> firsts_;
+  std::vector<RoundTimings> timings_;
+  std::vector<RowMatches> matches_;
+  std::vector<RowDrift> drift_;
+  int failures_ = 0;
+};
+
 }  // namespace
 
+// The stages of run and shootout: plan (no GL), plan against the GL limits, provenance, baselines
+// (reference and ground truth), measurement, and the closing meta.json.
 static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry& registry) {
   RunPlan plan = planBeforeContext(req, shootout, registry);
   GlContext context(true);
@@ -754,30 +985,14 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   // Everything the user gave is valid: from here on results are written.
   ResultFiles files(req.out, plan.scene.name, !req.noImages);
   const ContextInfo& info = context.info();
-  TimerCalibration calibration;
-  if (req.timer == "auto") {
-    calibration = calibrateTimer();
-  } else {
-    calibration.chosen = req.timer == "gpu" ? TimerStrategy::GpuTimestamp : TimerStrategy::WallClock;
-    calibration.reason = "chosen with --timer";
-  }
-  const std::string timer = timerStrategyName(calibration.chosen);
+  const TimerCalibration calibration = chooseTimer(req.timer);
   // Once the context and its driver threads exist, before any thread of ours (the ground truth's).
   const ThreadPinning pinning = pinDriverThreads(req.pinThreads, calibration.chosen == TimerStrategy::WallClock);
   const std::string date = isoDateUtc();
   json meta = metaJson(req, plan, info, calibration, pinning, date);
   files.writeMeta(meta);
 
-  RunOptions options;
-  options.width = plan.width;
-  options.height = plan.height;
-  options.frames = req.frames;
-  options.warmup = req.warmup;
-  options.minTimeMs = req.minTimeMs;
-  options.seed = uint32_t(req.seed);
-  options.timer = calibration.chosen;
-  options.workCounters = true;
-
+  const RunOptions options = runOptionsFor(req, plan, calibration.chosen);
   Progress progress(int(plan.jobs.size()) * req.rounds + (plan.haveReference ? 1 : 0) +
                     (plan.haveExact && !plan.exactReference ? 1 : 0));
   int item = 0;
@@ -785,79 +1000,18 @@ static int runChecked(const RunRequest& req, bool shootout, const MethodRegistry
   files.writeMeta(meta);
   if (plan.haveReference) files.writeReferenceImages(base.reference, base.exposure);
 
-  Runner runner(plan.scene, limits, options);
-  // Later rounds only time: no images, errors or work counters (those come from the first).
-  RunOptions laterOptions = options;
-  laterOptions.workCounters = false;
-  std::unique_ptr<Runner> laterRunner;
-  if (req.rounds > 1 || req.equalQuality) laterRunner = std::make_unique<Runner>(plan.scene, limits, laterOptions);
-  std::unique_ptr<EqualQuality> equalQuality;
-  if (req.equalQuality && plan.haveReference && plan.effects.scattering) {
-    equalQuality = std::make_unique<EqualQuality>(
-        plan, limits, registry, options, plan.equalQualityExact ? base.exact.inscatter : base.reference.inscatter,
-        progress);
+  RowContext rows{req, plan, base, timerStrategyName(calibration.chosen), info.glRenderer, date};
+  Measurement measurement(rows, registry, limits, options, files, progress);
+  if (measurement.equalQuality()) {
     meta["equal_quality"] = {{"error_against", plan.equalQualityExact ? "exact" : "reference"},
                              {"why", plan.equalQualityNote}};
-    files.writeMeta(meta);
   }
-  int failures = 0;
-  std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", "method", "params", "status", "frame_ms", "rmse", "psnr", "ssim");
-  std::vector<Measured> firsts(plan.jobs.size());
-  std::vector<RoundTimings> timings(plan.jobs.size());
-  std::vector<RowMatches> matches(plan.jobs.size());
-  for (int round = 0; round < req.rounds; ++round)
-    for (size_t j = 0; j < plan.jobs.size(); ++j) {
-      const Job& job = plan.jobs[j];
-      Measured& first = firsts[j];
-      if (round > 0 && first.run.status != RunStatus::Success) continue;  // its row is written
-      progress.item(item++, req.rounds > 1 ? job.label + " (round " + std::to_string(round + 1) + "/" +
-                                                 std::to_string(req.rounds) + ")"
-                                           : job.label);
-      if (round == 0) {
-        first = measureJob(runner, job, registry, plan, base, progress);
-        if (first.run.status == RunStatus::Failure) ++failures;
-        if (first.run.status != RunStatus::Success) progress.skip(req.rounds - 1);  // no later rounds
-        files.writeImages(first.run, base, plan.haveReference);
-        first.run.inscatter = Image();  // the errors are measured: the images are not kept
-        first.run.final = Image();
-        if (first.run.status == RunStatus::Success) timings[j].add(first.run);
-        if (equalQuality) matches[j] = matchRow(first, *equalQuality, plan);
-      } else {
-        auto method = createMethod(registry, job.method);
-        MethodRun later = laterRunner->run(*method, job.params, [&](int done, int total) { progress.frames(done, total); });
-        if (later.status == RunStatus::Success) timings[j].add(later);
-      }
-      if (equalQuality)
-        timeMatchedBaselines(matches[j], *laterRunner, registry, limits, *equalQuality, first.run.shadowMapSize, progress);
-      Measured m = first;
-      const RoundTimings& t = timings[j];
-      if (m.run.status == RunStatus::Success && t.count() > 1) {
-        m.run.frame = combineRounds(t.frame);
-        for (auto& [pass, stats] : m.run.passStats)
-          if (t.passes.count(pass)) stats = combineRounds(t.passes.at(pass));
-      }
-      const MethodRun& r = m.run;
-      ResultRow row = runRow(m, plan, req, base, timer, info.glRenderer, date);
-      if (r.status == RunStatus::Success) {
-        row.set("scatter_ms", scatterMs(r)).set("rounds", t.count());
-        auto [frameLo, frameHi] = roundRange(t.frame);
-        row.set("frame_round_min_ms", frameLo).set("frame_round_max_ms", frameHi);
-        row.set("scatter_round_min_ms", *std::min_element(t.scatter.begin(), t.scatter.end()));
-        row.set("scatter_round_max_ms", *std::max_element(t.scatter.begin(), t.scatter.end()));
-      }
-      bool lastRound = round == req.rounds - 1;
-      if (equalQuality && lastRound) addEqualQuality(row, m, matches[j], *equalQuality, plan, t.scatter);
-      files.addRows(row, r, plan.scene.name, timer, info.glRenderer, t);
-      progress.finished(jobSummary(m));
-      if (!lastRound && r.status == RunStatus::Success) continue;  // printed once, after the last round
-      bool ok = r.status == RunStatus::Success;
-      std::printf("%-10s %-40s %-11s %10s %10s %8s %7s\n", r.method.c_str(), r.params.c_str(), runStatusName(r.status),
-                  ok ? num(r.frame.medianMs).c_str() : "-", m.measured ? num(m.finalErr.rmse).c_str() : "-",
-                  m.measured ? num(m.finalErr.psnr).c_str() : "-", m.measured ? num(m.finalErr.ssim).c_str() : "-");
-      std::fflush(stdout);
-    }
+  meta["drift"] = measurement.driftJson();  // the policy; the samples once measured
+  files.writeMeta(meta);
+  int failures = measurement.runAll(item);
   meta["status"] = "finished";
   meta["failures"] = failures;
+  meta["drift"] = measurement.driftJson();
   files.writeMeta(meta);
   std::printf("%s\n", files.summary().c_str());
   return failures > 0 ? 3 : 0;

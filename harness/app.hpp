@@ -26,6 +26,9 @@ struct RunRequest {
   // Interleaved rounds (--rounds): every job runs once per round, in turn (A B C, A B C, ...), and
   // its timings are the medians over the rounds, with their spread.
   int rounds = 1;
+  // Drift detection (harness/drift.hpp): --drift-threshold (0: off) and --drift-retries.
+  double driftThresholdPct = 15.0;
+  int driftRetries = 2;
   long long seed = 1;
   bool noReference = false;
   bool exact = false;                // also measure against the exact-visibility ground truth

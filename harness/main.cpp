@@ -35,6 +35,14 @@ int main(int argc, char** argv) {
                     "over the rounds (their range in the *_round_min/max columns)")
         ->capture_default_str()
         ->check(CLI::Range(1, 100));
+    cmd->add_option("--drift-threshold", r.driftThresholdPct,
+                    "a calibration workload is timed before the first and after every round of a row; a round "
+                    "during which it moved more than this many percent is disturbed and run again (0: no check)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1000.0));
+    cmd->add_option("--drift-retries", r.driftRetries, "most repeats of a disturbed round")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 10));
     cmd->add_option("--seed", r.seed, "seed for jitter and random scenes")->capture_default_str()->check(CLI::Range(0LL, 4294967295LL));
     cmd->add_option("--timer", r.timer, "timing strategy")->capture_default_str()->check(CLI::IsMember({"auto", "gpu", "wall"}));
     cmd->add_option("--pin-threads", r.pinThreads,

@@ -66,6 +66,17 @@ class Method {
   virtual std::vector<ParamSpec> params() const = 0;
   // Parameter sets for `vshadow shootout`, cheapest first (each "key=value:key=value").
   virtual std::vector<std::string> qualityLadder() const { return {""}; }
+  // The ladder for a scene with these effects, as one or more named series, each cheapest first
+  // (e.g. the reference method's uniform and equiangular steps: two brute-force curves). --rungs
+  // picks within each series. The default: qualityLadder() as one unnamed series.
+  struct QualitySeries {
+    std::string name;
+    std::vector<std::string> rungs;
+  };
+  virtual std::vector<QualitySeries> qualitySeries(const Effects& effects) const {
+    (void)effects;
+    return {{"", qualityLadder()}};
+  }
   // Parameters that make this method the ray-marched reference for a scene with these effects;
   // empty when it cannot be one.
   virtual std::string referenceParams(const Effects& effects) const {

@@ -34,11 +34,12 @@ void writeFileAtomic(const std::string& path, const std::string& text) {
 
 const std::vector<std::string>& runsColumns() {
   static const std::vector<std::string> columns = {
-      "scene", "method", "params", "status", "reason", "effects", "passes", "approximations", "setup_ms",
+      "scene", "method", "params", "status", "reason", "effects", "passes", "approximations", "series", "setup_ms",
       "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable", "rounds", "frame_round_min_ms",
       "frame_round_max_ms", "rmse", "relmse", "psnr",
       "ssim", "max_abs", "max_abs_x", "max_abs_y", "ls_rmse", "ls_relmse", "ls_psnr", "ls_ssim", "ls_max_abs",
       "nonfinite_pixels", "method_stats", "scatter_ms", "scatter_round_min_ms", "scatter_round_max_ms",
+      "calibration_drift_pct", "calibration_shift_pct", "disturbed", "disturbed_retries",
       "eq_error_against", "eq_uniform_steps", "eq_uniform_ms", "eq_uniform_round_min_ms", "eq_uniform_round_max_ms",
       "speedup_eq_uniform", "speedup_eq_uniform_round_min", "speedup_eq_uniform_round_max",
       "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "eq_equiangular_round_min_ms",

@@ -147,6 +147,11 @@ TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
     EXPECT_FALSE(field(runs, row, "rmse").empty());
     EXPECT_FALSE(field(runs, row, "setup_ms").empty());
     EXPECT_EQ(field(runs, row, "effects"), "scattering+extinction+point");
+    // Drift detection: the calibration around the row's rounds, and whether it moved.
+    EXPECT_TRUE(field(runs, row, "disturbed") == "0" || field(runs, row, "disturbed") == "1");
+    EXPECT_GE(std::stod(field(runs, row, "calibration_drift_pct")), 0.0);
+    EXPECT_GE(std::stod(field(runs, row, "calibration_shift_pct")), 0.0);
+    EXPECT_GE(std::stoi(field(runs, row, "disturbed_retries")), 0);
   }
   EXPECT_GE(passes.rows().size(), runs.rows().size() * 5);
   auto meta = nlohmann::json::parse(readFile(out + "/meta.json"));
@@ -161,6 +166,17 @@ TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   EXPECT_EQ(meta["build"]["sanitizers"], "none");
 #endif
   EXPECT_EQ(meta["status"], "finished");
+  // The calibration workload was timed before the first row and after each (one round here).
+  ASSERT_TRUE(meta.contains("drift"));
+  EXPECT_EQ(meta["drift"]["threshold_pct"], 15.0);
+  EXPECT_GT(meta["drift"]["workload"]["draw_iterations"].get<int>(), 0);
+  size_t successes = 0;
+  for (const auto& row : runs.rows()) successes += field(runs, row, "status") == "Success";
+  EXPECT_GE(meta["drift"]["samples"].size(), successes + 1);
+  for (const auto& sample : meta["drift"]["samples"]) {
+    EXPECT_GT(sample["draw_ms"].get<double>(), 0.0);
+    EXPECT_GT(sample["compute_ms"].get<double>(), 0.0);
+  }
   EXPECT_FALSE(meta["gl"]["renderer"].get<std::string>().empty());
   EXPECT_TRUE(fs::exists(out + "/images/spheres/reference.final.exr"));
   int pngs = 0, errors = 0;
@@ -334,7 +350,7 @@ TEST(CliTest, EqualQualityColumnsNameTheBaselineAndItsStepsAtTheRowsError) {
   std::string dir = makeTempDir("equal-quality");
   CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--method", "minmax", "--size", "48x36", "--frames",
                                 "1", "--warmup", "0", "--no-images", "--equal-quality", "--rounds", "2", "--out",
-                                dir + "/out", "--cache", dir + "/cache"});
+                                dir + "/out", "--cache", dir + "/cache", "--drift-threshold", "0"});  // no repeats
   ASSERT_EQ(r.exitCode, 0) << r.err;
   auto rows = CsvTable::parse(readFile(dir + "/out/runs.csv"));
   ASSERT_GT(rows.size(), 1u);
@@ -477,18 +493,39 @@ TEST(CliTest, EqualQualityIsMatchedAgainstTheExactGroundTruth) {
 namespace vs::testing {
 namespace {
 
-// --rungs picks rungs of every ladder by position: raymarch's six rungs, first and middle (6/2 = 3).
-TEST(CliTest, RungsPicksPositionsOfEachLadder) {
+// --rungs picks rungs of every ladder series by position: on a point light raymarch has two series
+// of six rungs (uniform and equiangular steps, the two brute-force baselines), first and middle
+// (6/2 = 3) of each.
+TEST(CliTest, RungsPicksPositionsOfEachLadderSeries) {
   std::string dir = makeTempDir("rungs");
   CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--method", "raymarch", "--rungs", "first,middle",
                                 "--rungs", "99", "--size", "32x24", "--frames", "1", "--warmup", "0", "--no-images",
                                 "--out", dir + "/out", "--cache", dir + "/cache"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   auto rows = CsvTable::parse(readFile(dir + "/out/runs.csv"));
-  ASSERT_EQ(rows.size(), 3u);
-  size_t params = size_t(std::find(rows[0].begin(), rows[0].end(), "params") - rows[0].begin());
+  ASSERT_EQ(rows.size(), 5u);
+  auto col = [&](const std::string& name) { return size_t(std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin()); };
+  const size_t params = col("params"), series = col("series");
   EXPECT_EQ(rows[1][params].rfind("steps=8:", 0), 0u) << rows[1][params];
   EXPECT_EQ(rows[2][params].rfind("steps=64:", 0), 0u) << rows[2][params];
+  for (size_t i : {1u, 2u}) {
+    EXPECT_EQ(rows[i][series], "uniform");
+    EXPECT_NE(rows[i][params].find("sampling=uniform"), std::string::npos) << rows[i][params];
+  }
+  for (size_t i : {3u, 4u}) {
+    EXPECT_EQ(rows[i][series], "equiangular");
+    EXPECT_NE(rows[i][params].find("sampling=equiangular"), std::string::npos) << rows[i][params];
+  }
+  EXPECT_EQ(rows[3][params].rfind("steps=8:", 0), 0u) << rows[3][params];
+  EXPECT_EQ(rows[4][params].rfind("steps=64:", 0), 0u) << rows[4][params];
+  // A directional light has no equiangular series: one brute-force curve.
+  CommandResult sun = runVshadow({"shootout", "--scene", "terrain", "--method", "raymarch", "--rungs", "first",
+                                  "--size", "32x24", "--frames", "1", "--warmup", "0", "--no-images",
+                                  "--out", dir + "/sun", "--cache", dir + "/cache"});
+  ASSERT_EQ(sun.exitCode, 0) << sun.err;
+  auto sunRows = CsvTable::parse(readFile(dir + "/sun/runs.csv"));
+  ASSERT_EQ(sunRows.size(), 2u);
+  EXPECT_EQ(sunRows[1][series], "uniform");
   // A word that is no position is bad input: exit 2 before anything is written.
   CommandResult bad = runVshadow({"shootout", "--scene", "spheres", "--rungs", "middel", "--out", dir + "/bad"});
   EXPECT_EQ(bad.exitCode, 2);

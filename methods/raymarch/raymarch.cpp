@@ -54,6 +54,18 @@ std::vector<std::string> RaymarchMethod::qualityLadder() const {
   return {"steps=8", "steps=16", "steps=32", "steps=64", "steps=128", "steps=256"};
 }
 
+// Uniform steps (the papers' brute force) and, where a point or spot light makes it the stronger
+// baseline, equiangular steps: the shootout draws both brute-force curves.
+std::vector<Method::QualitySeries> RaymarchMethod::qualitySeries(const Effects& effects) const {
+  std::vector<QualitySeries> series = {{"uniform", qualityLadder()}};
+  if (effects.light == LightType::Point || effects.light == LightType::Spot) {
+    QualitySeries equiangular{"equiangular", {}};
+    for (const std::string& rung : qualityLadder()) equiangular.rungs.push_back(rung + ":sampling=equiangular");
+    series.push_back(equiangular);
+  }
+  return series;
+}
+
 std::string RaymarchMethod::referenceParams(const Effects& effects) const {
   // Area lights: the light samples dominate the error (scripts/benchmark-effects: at 64 samples,
   // 256 steps are within relMSE 1.4e-3 of 4096), and 4096 x 64 took 130 s at 384x288.

@@ -11,6 +11,7 @@ class RaymarchMethod : public Method {
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> qualityLadder() const override;
+  std::vector<QualitySeries> qualitySeries(const Effects& effects) const override;
   std::string referenceParams(const Effects& effects) const override;
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   void setup(const SetupContext& context, const ParamValues& params) override;
