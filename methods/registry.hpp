@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/benchmark_kit.hpp"
 #include "harness/method.hpp"
 #include "harness/runner.hpp"
 
@@ -23,6 +24,18 @@ inline MethodRun runSpec(Runner& runner, const gl::Limits& limits, const std::st
   ResolvedSpec r = resolveSpec(spec, limits);
   auto method = createMethod(r.method);
   return runner.run(*method, r.params);
+}
+// A timed run of a spec on a runner: inside a benchmark session (harness/benchmark_kit.hpp) it is
+// bracketed by the session's calibration and repeated when the machine's speed moved meanwhile.
+inline MethodRun timedRunSpec(Runner& runner, const gl::Limits& limits, const std::string& spec) {
+  BenchmarkSession* session = BenchmarkSession::current();
+  if (!session) return runSpec(runner, limits, spec);
+  MethodRun run;
+  session->recordRun(session->drift().run([&](int) {
+    run = runSpec(runner, limits, spec);
+    return run.status == RunStatus::Success;
+  }));
+  return run;
 }
 // The benchmarks measure as many of their frames as fill this long at the warm-up frame's time
 // (RunOptions::minTimeMs): a run of a second or more measures one frame per round.
@@ -46,7 +59,7 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   options.minTimeMs = kBenchmarkMinTimeMs;
   options.timer = TimerStrategy::WallClock;
   Runner runner(scene, limits, options);
-  return runSpec(runner, limits, spec);
+  return frames > 0 ? timedRunSpec(runner, limits, spec) : runSpec(runner, limits, spec);
 }
 // A figure measured in several rounds: the median of the rounds and their range.
 struct Spread {

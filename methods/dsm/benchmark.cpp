@@ -11,10 +11,8 @@
 #include <vector>
 
 #include "harness/app.hpp"
-#include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
-#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -136,25 +134,21 @@ int main(int argc, char** argv) {
   int w = quick ? 96 : 384, h = quick ? 72 : 288;
   int sw = quick ? 64 : 192, sh = quick ? 48 : 144;
   int frames = quick ? 1 : 3, rounds = quick ? 1 : 3;
-  GlContext context(false);
-  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
-  const std::string pinning = describe(pinDriverThreads("on", true));
-  gl::installDebugOutput(false);
-  gl::Limits limits = gl::queryLimits();
+  BenchmarkSession session;
+  const gl::Limits& limits = session.limits();
   if (colouredOnly) {
     std::printf("# dsm: coloured shadows, measured\n\n");
     std::printf("Regenerate: `build/methods/dsm/dsm_benchmark --coloured > results/dsm/coloured.md` (under a minute on 2 cores).\n\n");
-    std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("- threads: %s\n", pinning.c_str());
+    std::printf("%s", session.preamble("- ").c_str());
     std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
     std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light)\n");
     colouredShadows(limits, sw, sh, frames, rounds);
+    std::printf("\n%s", session.driftSummary("- ").c_str());
     return 0;
   }
   std::printf("# dsm: deep shadow maps, measured\n\n");
   std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 8 minutes on 2 cores).\n\n");
-  std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("- threads: %s\n", pinning.c_str());
+  std::printf("%s", session.preamble("- ").c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
   std::printf("- scattering time: DSM Generation + Volume March (dsm), Ray Marching (raymarch); the shared\n"
@@ -329,5 +323,6 @@ int main(int argc, char** argv) {
                 stat(m.run, "dsm_voxel_samples_per_s"));
     std::fflush(stdout);
   }
+  std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }

@@ -11,13 +11,11 @@
 #include <vector>
 
 #include "harness/app.hpp"
-#include "harness/context.hpp"
 #include "harness/ground_truth.hpp"
 #include "harness/image.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/vpl.hpp"
-#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -82,11 +80,8 @@ int main(int argc, char** argv) {
   }
   const int w = quick ? 48 : 96, h = quick ? 36 : 72, frames = quick ? 1 : 2;
   const int tableVpls = quick ? 16 : 256;
-  GlContext context(false);
-  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
-  const std::string pinning = describe(pinDriverThreads("on", true));
-  gl::installDebugOutput(false);
-  gl::Limits limits = gl::queryLimits();
+  BenchmarkSession session;
+  const gl::Limits& limits = session.limits();
   Scene scene = loadScene("arealight");
   // The strongest reference this machine holds: 256 light samples off the VPLs' points.
   const std::string refSpec = quick ? "raymarch:steps=256:sampling=equiangular:light_samples=64:light_sm=256:light_shift=1"
@@ -94,8 +89,7 @@ int main(int argc, char** argv) {
   std::printf("# ivsv: imperfect voxelized shadow volumes, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce ivsv` (build/methods/ivsv/ivsv_benchmark --images results/ivsv > "
               "results/ivsv/README.md, about 3 minutes on 2 cores).\n\n");
-  std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("- threads: %s\n", pinning.c_str());
+  std::printf("%s", session.preamble("- ").c_str());
   std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: `%s`. Its light samples are not the VPLs of any row, so each row's light-sampling "
@@ -294,5 +288,6 @@ int main(int argc, char** argv) {
                   file.c_str());
     }
   }
+  std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }

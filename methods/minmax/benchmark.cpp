@@ -11,11 +11,9 @@
 #include <vector>
 
 #include "harness/app.hpp"
-#include "harness/context.hpp"
 #include "harness/image.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
-#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -58,13 +56,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  GlContext context(false);
-  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
-  const std::string pinning = describe(pinDriverThreads("on", true));
-  gl::installDebugOutput(false);
-  gl::Limits limits = gl::queryLimits();
-  std::printf("provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("threads: %s\n", pinning.c_str());
+  BenchmarkSession session;
+  const gl::Limits& limits = session.limits();
+  std::printf("%s", session.preamble().c_str());
   std::printf("image %dx%d, wall-clock pass timer (glFinish-bracketed), %s\n", w, h, benchmarkFramesNote(3).c_str());
   std::printf("reference: raymarch steps=4096 at the same shadow map; scattering time = the method's own passes\n\n");
 
@@ -201,5 +195,6 @@ int main(int argc, char** argv) {
     std::printf(" %18s %18s\n", spreadCell(spreadOf(runs[i], scatterOf)).c_str(),
                 spreadCell(spreadOf(runs[i], [](const MethodRun& r) { return r.frame.medianMs; })).c_str());
   }
+  std::printf("\n%s", session.driftSummary().c_str());
   return 0;
 }

@@ -16,12 +16,10 @@
 #include <vector>
 
 #include "harness/app.hpp"
-#include "harness/context.hpp"
 #include "harness/ground_truth.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/step_search.hpp"
-#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -101,15 +99,11 @@ int main(int argc, char** argv) {
   int w = quick ? 96 : 256, h = quick ? 72 : 192;
   int side = quick ? 128 : 512;
   int frames = quick ? 1 : 3;
-  GlContext context(false);
-  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
-  const std::string pinning = describe(pinDriverThreads("on", true));
-  gl::installDebugOutput(false);
-  gl::Limits limits = gl::queryLimits();
+  BenchmarkSession session;
+  const gl::Limits& limits = session.limits();
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
   std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 4 minutes on 2 cores).\n\n");
-  std::printf("- provenance: %s\n", provenanceLine(context.info()).c_str());
-  std::printf("- threads: %s\n", pinning.c_str());
+  std::printf("%s", session.preamble("- ").c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"
               "  the shared passes (Shadow Map, Transmittance Map, G Buffer, Direct Lighting, Composite) and slicemap's\n"
@@ -302,5 +296,6 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+  std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }

@@ -9,10 +9,8 @@
 #include <vector>
 
 #include "harness/app.hpp"
-#include "harness/context.hpp"
 #include "harness/metrics.hpp"
 #include "harness/runner.hpp"
-#include "harness/thread_pinning.hpp"
 #include "registry.hpp"
 #include "scenes/scene.hpp"
 
@@ -27,12 +25,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: vsv_benchmark [WIDTHxHEIGHT]\n");
     return 2;
   }
-  GlContext context(false);
-  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
-  const std::string pinning = describe(pinDriverThreads("on", true));
-  gl::Limits limits = gl::queryLimits();
-  std::printf("provenance: %s\nthreads: %s\n%dx%d, %s\n", provenanceLine(context.info()).c_str(), pinning.c_str(),
-              width, height, benchmarkFramesNote(3).c_str());
+  BenchmarkSession session;
+  const gl::Limits& limits = session.limits();
+  std::printf("%s%dx%d, %s\n", session.preamble().c_str(), width, height, benchmarkFramesNote(3).c_str());
   RunOptions options;
   options.width = width;
   options.height = height;
@@ -50,12 +45,12 @@ int main(int argc, char** argv) {
     Scene scene = loadScene(name);
     Runner runner(scene, limits, options);
     MethodRun ref = runSpec(runner, limits, "raymarch:steps=2048:sm=1024");
-    MethodRun v = runSpec(runner, limits, "vsv:sm=1024");
+    MethodRun v = timedRunSpec(runner, limits, "vsv:sm=1024");
     ErrorMetrics vErr = compareImages(v.inscatter, ref.inscatter);
     int steps = 0;
     double rmMs = 0, rmErr = 0;
     for (int s = 8; s <= 1024; s *= 2) {
-      MethodRun r = runSpec(runner, limits, "raymarch:sm=1024:steps=" + std::to_string(s));
+      MethodRun r = timedRunSpec(runner, limits, "raymarch:sm=1024:steps=" + std::to_string(s));
       steps = s;
       rmMs = r.frame.medianMs;
       rmErr = compareImages(r.inscatter, ref.inscatter).relmse;
@@ -64,7 +59,7 @@ int main(int argc, char** argv) {
     std::printf("| %s | %.2e | %.5f | %.1f | %d | %.2e | %.1f | %.2fx |\n", name, vErr.relmse, vErr.rmse, v.frame.medianMs,
                 steps, rmErr, rmMs, rmMs / std::max(v.frame.medianMs, 1e-9));
     std::fflush(stdout);
-    MethodRun surf = runSpec(runner, limits, "vsv:sm=1024:surface=1");
+    MethodRun surf = timedRunSpec(runner, limits, "vsv:sm=1024:surface=1");
     surfaceRows += "| " + std::string(name) + " | " + std::to_string(surf.passMs("Surface Shadows")) + " | " +
                    std::to_string(compareImages(surf.final, ref.final).relmse) + " | " +
                    std::to_string(compareImages(v.final, ref.final).relmse) + " |\n";
@@ -138,5 +133,6 @@ int main(int argc, char** argv) {
                 cell(geo, "Voxelize: Geometry").c_str(), cell(sm, "Scan VSV").c_str(), cell(sm, "Compute L_s").c_str(),
                 cell(fused, "Voxelize: From SM").c_str());
   }
+  std::printf("\n%s", session.driftSummary().c_str());
   return 0;
 }

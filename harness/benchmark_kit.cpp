@@ -1,0 +1,60 @@
+#include "benchmark_kit.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "app.hpp"
+#include "thread_pinning.hpp"
+
+namespace vs {
+
+namespace {
+BenchmarkSession* gCurrent = nullptr;
+
+std::string fixed(double v, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", digits, v);
+  return text;
+}
+}  // namespace
+
+BenchmarkSession::BenchmarkSession(DriftPolicy policy) : context_(false) {
+  // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
+  pinning_ = describe(pinDriverThreads("on", true));
+  gl::installDebugOutput(false);
+  limits_ = gl::queryLimits();
+  probe_ = std::make_unique<CalibrationProbe>();
+  guard_ = std::make_unique<DriftGuard>([this] { return probe_->measure(); }, policy);
+  gCurrent = this;
+}
+
+BenchmarkSession::~BenchmarkSession() {
+  if (gCurrent == this) gCurrent = nullptr;
+}
+
+BenchmarkSession* BenchmarkSession::current() { return gCurrent; }
+
+std::string BenchmarkSession::preamble(const std::string& bullet) const {
+  const DriftPolicy& p = guard_->policy();
+  return bullet + "provenance: " + provenanceLine(info()) + "\n" + bullet + "threads: " + pinning_ + "\n" + bullet +
+         "drift: a calibration workload (" + std::to_string(probe_->drawIterations()) + "/" +
+         std::to_string(probe_->computeIterations()) +
+         " iterations of a 256x256 fragment pass/compute dispatch) timed before and after every timed run; a run "
+         "during which it moved more than " +
+         fixed(p.thresholdPct, 0) + " % is repeated, at most " + std::to_string(p.maxRetries) + " times\n";
+}
+
+std::string BenchmarkSession::driftSummary(const std::string& bullet) const {
+  const auto& h = guard_->history();
+  if (h.empty()) return bullet + "drift: no timed run\n";
+  auto [drawLo, drawHi] = std::minmax_element(h.begin(), h.end(), [](auto& a, auto& b) { return a.drawMs < b.drawMs; });
+  auto [compLo, compHi] =
+      std::minmax_element(h.begin(), h.end(), [](auto& a, auto& b) { return a.computeMs < b.computeMs; });
+  return bullet + "drift: calibration " + fixed(h.front().drawMs, 2) + "/" + fixed(h.front().computeMs, 2) +
+         " ms (fragment/compute) at the start, " + fixed(drawLo->drawMs, 2) + "–" + fixed(drawHi->drawMs, 2) + " / " +
+         fixed(compLo->computeMs, 2) + "–" + fixed(compHi->computeMs, 2) + " ms over " + std::to_string(h.size()) +
+         " samples; " + std::to_string(guard_->retries()) + " run(s) repeated because the machine's speed moved, " +
+         std::to_string(disturbedKept_) + " kept while still disturbed\n";
+}
+
+}  // namespace vs
