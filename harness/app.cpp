@@ -177,22 +177,26 @@ struct RoundTimings {
   int count() const { return int(frame.size()); }
 };
 
-// Median of the rounds' medians (and of their MdAPE), min and max over every frame, all frames.
+// Median of the rounds' medians (and of their MdAPE and percentiles), min and max over every frame, all frames.
 TimingStats combineRounds(const std::vector<TimingStats>& rounds) {
   TimingStats out;
   if (rounds.empty()) return out;
-  std::vector<double> medians, mdapes;
+  std::vector<double> medians, mdapes, p95s, p99s;
   out.minMs = rounds.front().minMs;
   out.maxMs = rounds.front().maxMs;
   for (const TimingStats& r : rounds) {
     medians.push_back(r.medianMs);
     mdapes.push_back(r.mdapePct);
+    p95s.push_back(r.p95Ms);
+    p99s.push_back(r.p99Ms);
     out.minMs = std::min(out.minMs, r.minMs);
     out.maxMs = std::max(out.maxMs, r.maxMs);
     out.samples += r.samples;
   }
   out.medianMs = medianOf(medians);
   out.mdapePct = medianOf(mdapes);
+  out.p95Ms = medianOf(p95s);
+  out.p99Ms = medianOf(p99s);
   return out;
 }
 
@@ -729,6 +733,7 @@ ResultRow runRow(const Measured& m, const RunPlan& plan, const RunRequest& req, 
   if (r.status == RunStatus::Success) {
     row.set("setup_ms", r.setupMs);
     row.set("frame_median_ms", r.frame.medianMs).set("frame_min_ms", r.frame.minMs).set("frame_max_ms", r.frame.maxMs);
+    row.set("frame_p95_ms", r.frame.p95Ms).set("frame_p99_ms", r.frame.p99Ms);
     row.set("frame_mdape_pct", r.frame.mdapePct).set("unstable", r.frame.mdapePct > 5.0 ? "1" : "0");
   }
   if (m.measured) {

@@ -35,7 +35,7 @@ void writeFileAtomic(const std::string& path, const std::string& text) {
 const std::vector<std::string>& runsColumns() {
   static const std::vector<std::string> columns = {
       "scene", "method", "params", "status", "reason", "effects", "passes", "approximations", "series", "setup_ms",
-      "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_mdape_pct", "unstable", "rounds", "frame_round_min_ms",
+      "frame_median_ms", "frame_min_ms", "frame_max_ms", "frame_p95_ms", "frame_p99_ms", "frame_mdape_pct", "unstable", "rounds", "frame_round_min_ms",
       "frame_round_max_ms", "rmse", "relmse", "psnr",
       "ssim", "max_abs", "max_abs_x", "max_abs_y", "ls_rmse", "ls_relmse", "ls_psnr", "ls_ssim", "ls_max_abs",
       "nonfinite_pixels", "method_stats", "scatter_ms", "scatter_round_min_ms", "scatter_round_max_ms",

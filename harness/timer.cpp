@@ -23,6 +23,13 @@ double medianOf(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+double percentileOf(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  double rank = std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * double(v.size()));
+  return v[size_t(std::clamp(rank, 1.0, double(v.size()))) - 1];
+}
+
 TimingStats summarise(std::vector<double> samplesMs) {
   TimingStats s;
   s.samples = samplesMs.size();
@@ -30,6 +37,8 @@ TimingStats summarise(std::vector<double> samplesMs) {
   s.medianMs = medianOf(samplesMs);
   s.minMs = *std::min_element(samplesMs.begin(), samplesMs.end());
   s.maxMs = *std::max_element(samplesMs.begin(), samplesMs.end());
+  s.p95Ms = percentileOf(samplesMs, 95.0);
+  s.p99Ms = percentileOf(samplesMs, 99.0);
   std::vector<double> ape;
   for (double x : samplesMs) ape.push_back(s.medianMs > 0 ? std::fabs(x - s.medianMs) / s.medianMs * 100.0 : 0.0);
   s.mdapePct = medianOf(ape);

@@ -28,8 +28,13 @@ TimerCalibration calibrateTimer();
 
 struct TimingStats {
   double medianMs = 0, minMs = 0, maxMs = 0, mdapePct = 0;
+  // Nearest-rank percentiles: a moving scene's frame-time spikes (a pass whose cost jumps when
+  // the epipole enters the screen) sit far from the median.
+  double p95Ms = 0, p99Ms = 0;
   size_t samples = 0;
 };
+// The nearest-rank p-th percentile (p in [0, 100]) of the values (0 without any).
+double percentileOf(std::vector<double> values, double p);
 // The median of the values (0 without any).
 double medianOf(std::vector<double> values);
 // MdAPE: median over samples of |x - median| / median, in percent.

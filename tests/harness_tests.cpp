@@ -31,6 +31,15 @@ TEST(TimingStatsTest, MedianMinMaxAndMdape) {
   // |x - 10| / 10: 0, 20, 20, 0, 200 -> median 20 %.
   EXPECT_DOUBLE_EQ(s.mdapePct, 20);
   EXPECT_EQ(s.samples, 5u);
+  // Nearest rank: the 95th and 99th percentiles of five frames are the slowest one.
+  EXPECT_DOUBLE_EQ(s.p95Ms, 30);
+  EXPECT_DOUBLE_EQ(s.p99Ms, 30);
+  std::vector<double> hundred;
+  for (int i = 1; i <= 100; ++i) hundred.push_back(i);
+  EXPECT_DOUBLE_EQ(percentileOf(hundred, 95), 95);
+  EXPECT_DOUBLE_EQ(percentileOf(hundred, 99), 99);
+  EXPECT_DOUBLE_EQ(percentileOf(hundred, 0), 1);
+  EXPECT_DOUBLE_EQ(percentileOf({}, 50), 0);
 }
 
 TEST_F(TimerTest, WallClockAgreesWithCpuTimedWork) {
