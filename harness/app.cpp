@@ -102,7 +102,9 @@ int listCommand(const MethodRegistry& registry) {
   std::printf("Scenes (built in; or pass a path to a scene .json):\n");
   for (const auto& s : builtinScenes()) {
     std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
-    std::printf("  %-10s effects: %s\n", "", deriveEffects(loadScene(s.name)).describe().c_str());
+    const Scene scene = loadScene(s.name);
+    std::printf("  %-10s effects: %s\n", "", deriveEffects(scene).describe().c_str());
+    if (scene.animation.moves()) std::printf("  %-10s moves: %s\n", "", scene.animation.describe().c_str());
   }
   std::printf("\nMethods (spec: name:key=value:key=value):\n");
   for (const auto& info : registry) {
@@ -132,6 +134,10 @@ namespace {
 struct RunPlan {
   int width = 0, height = 0;
   Scene scene;
+  // The scene at the time of the frame whose images are compared (the last one): the reference's
+  // and the ground truth's scene. The same as `scene` when it does not move.
+  Scene stillScene;
+  uint32_t comparedFrame = 0;
   Effects effects;
   std::vector<Job> jobs;
   bool exactReference = false;  // --reference exact
@@ -243,7 +249,8 @@ class EqualQuality {
     once.frames = 1;
     once.warmup = 0;
     once.minTimeMs = 0;
-    errorRunner_ = std::make_unique<Runner>(plan.scene, limits, once);
+    // The error of a baseline point: one still frame of the scene as the rows' compared frame shows it.
+    errorRunner_ = std::make_unique<Runner>(plan.stillScene, limits, once);
     baseline_ = referenceMethodFor(plan.effects, registry).name;
   }
   const std::string& baseline() const { return baseline_; }
@@ -358,6 +365,9 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   parseSize(req.size, plan.width, plan.height);
   plan.scene = loadScene(req.scene);
   plan.effects = deriveEffects(plan.scene);
+  // A moving scene is compared at the time of the last frame, the one whose images are read back.
+  plan.comparedFrame = uint32_t(req.warmup + req.frames - 1);
+  plan.stillScene = sceneAt(plan.scene, plan.scene.animation.timeOf(plan.comparedFrame));
   for (const auto& spec : req.methods) createMethod(registry, shootout ? spec : parseMethodSpec(spec).method);
   pickRungs(req.rungs, 0);  // the words are valid
   if (req.minTimeMs > 0.0 && req.warmup < 1) throw UsageError("--min-time needs --warmup of at least 1: the warm-up frame's time sizes the run");
@@ -478,6 +488,14 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
         {"hash", plan.scene.contentHash},
         {"triangles", plan.scene.triangleCount()},
         {"volumes", plan.scene.volumes.size()},
+        {"animation", plan.scene.animation.moves()
+                          ? json{{"description", plan.scene.animation.describe()},
+                                 {"duration_s", plan.scene.animation.duration},
+                                 {"fps", plan.scene.animation.fps},
+                                 {"sequence_frames", plan.scene.animation.frameCount()},
+                                 {"compared_frame", plan.comparedFrame},
+                                 {"compared_time_s", plan.scene.animation.timeOf(plan.comparedFrame)}}
+                          : json(nullptr)},
         {"effects", plan.effects.describe()}}},
       {"metrics",
        {{"relmse_epsilon", kRelMseEpsilon},
@@ -565,7 +583,7 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
     gt.height = plan.height;
     gt.steps = req.exactSteps;
     gt.seed = options.seed;
-    base.exact = obtainGroundTruth(plan.scene, gt, req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir,
+    base.exact = obtainGroundTruth(plan.stillScene, gt, req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir,
                                    [&](int done, int total) { progress.frames(done, total); });
     progress.finished((base.exact.fromCache ? std::string("from cache")
                                             : "computed in " + num(base.exact.computeMs / 1000.0) + " s") +
@@ -588,7 +606,7 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
     int sm = 0;
     for (const auto& j : plan.jobs) sm = std::max(sm, j.params.getInt("sm"));
     progress.item(item, "reference");
-    ref = obtainReference(plan.scene, limits, options, std::max(sm, 64),
+    ref = obtainReference(plan.stillScene, limits, options, std::max(sm, 64),
                           req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir, registry, req.referenceSpec);
     progress.finished(ref.method + " " + ref.params + " (" +
                       (ref.fromCache ? std::string("from cache") : "computed in " + num(ref.computeMs / 1000.0) + " s") +

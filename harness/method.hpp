@@ -95,6 +95,13 @@ class Method {
   // for the light it was set up with. Such a method cannot run behind the per-VPL wrapper, which
   // moves the light between renders (harness/vpl.hpp).
   virtual bool lightFixedAtSetup() const { return false; }
+  // true: setup() derives state from the light (its position, size or frame), so when the light of
+  // a moving scene changes, the runner sets the method up again inside the frame ("Light Refit",
+  // timed as the method's own pass). Every light-fixed method does; others may for some effects.
+  virtual bool setupDependsOnLight(const Effects& effects) const {
+    (void)effects;
+    return lightFixedAtSetup();
+  }
   // Where the method departs from the model (README "What is computed"), one short phrase each,
   // e.g. "homogeneous extinction along light rays"; recorded in every result row. Read before
   // setup and again after it, which may add the departures of this scene and these parameters.

@@ -31,8 +31,9 @@ const char* runStatusName(RunStatus s) {
 
 Runner::Runner(const Scene& scene, const gl::Limits& limits, RunOptions options)
     : scene_(scene), limits_(limits), options_(options), effects_(deriveEffects(scene)) {
+  if (scene_.animation.moves()) moving_ = std::make_unique<Scene>(scene_);
   geometry_ = std::make_unique<SceneGpu>(scene_);
-  shared_ = std::make_unique<SharedPasses>(scene_, *geometry_, effects_, options_.width, options_.height);
+  shared_ = std::make_unique<SharedPasses>(live(), *geometry_, effects_, options_.width, options_.height);
   shared_->setShadowCasters(options_.shadowCasters);
 }
 
@@ -50,9 +51,7 @@ struct Runner::VplWrapper {
 
   VplWrapper(const Scene& original, const SceneGpu& geometry, int count, const RunOptions& options)
       : scene(original) {
-    const Light& area = original.light;
-    centre = virtualPointLight(area, area.position, 1);
-    for (const glm::vec3& p : virtualPointLightPositions(area, count)) lights.push_back(virtualPointLight(area, p, count));
+    place(original.light, count);
     scene.light = centre;
     effects = deriveEffects(scene);
     shared = std::make_unique<SharedPasses>(scene, geometry, effects, options.width, options.height);
@@ -62,6 +61,12 @@ struct Runner::VplWrapper {
     sumFbo = gl::createFramebuffer({{GL_COLOR_ATTACHMENT0, sum.id()}});
     gl::checkFramebuffer(sumFbo.id(), "VPL sum");
     accumulate = gl::buildFullscreen("harness/shaders/vpl_accumulate.frag");
+  }
+  // The VPLs of the area light as it is now (it may move between frames).
+  void place(const Light& area, int count) {
+    centre = virtualPointLight(area, area.position, 1);
+    lights.clear();
+    for (const glm::vec3& p : virtualPointLightPositions(area, count)) lights.push_back(virtualPointLight(area, p, count));
   }
   void useLight(const Light& light, uint32_t frameIndex, uint32_t seed) {
     scene.light = light;
@@ -113,10 +118,12 @@ double Runner::setUp(Method& method, const ParamValues& params) {
   vpl_.reset();
   if (vpls > 0) {
     if (!effects_.areaLight) throw std::runtime_error("vpls needs an area light");
-    vpl_ = std::make_unique<VplWrapper>(scene_, *geometry_, vpls, options_);
+    vpl_ = std::make_unique<VplWrapper>(live(), *geometry_, vpls, options_);
   }
   shared_->lightMoved();
-  const Scene& scene = vpl_ ? vpl_->scene : scene_;
+  setupParams_ = params;
+  lightAtSetup_ = live().light;
+  const Scene& scene = vpl_ ? vpl_->scene : live();
   const Effects& effects = vpl_ ? vpl_->effects : effects_;
   shared().setShadowMapSize(shadowMapSize);
   shared().updateUniforms(0, options_.seed);
@@ -138,11 +145,45 @@ double Runner::setUp(Method& method, const ParamValues& params) {
   return setupMs;
 }
 
+static bool sameLight(const Light& a, const Light& b) {
+  return a.position == b.position && a.direction == b.direction && a.tangent == b.tangent &&
+         a.intensity == b.intensity && a.width == b.width && a.height == b.height && a.radius == b.radius;
+}
+
+// Moves the camera and the light to the frame's time; true when the method, fitted to the light
+// at its set-up, must be set up again.
+bool Runner::followAnimation(Method& method, uint32_t frameIndex) {
+  if (!moving_) return false;
+  Scene& scene = *moving_;
+  const Light before = scene.light;
+  scene_.animation.apply(scene_.animation.timeOf(frameIndex), scene.camera, scene.light);
+  if (vpl_) vpl_->scene.camera = scene.camera;
+  if (sameLight(before, scene.light)) return false;
+  shared_->lightMoved();
+  if (vpl_) vpl_->place(scene.light, setupParams_.getInt("vpls"));
+  return method.setupDependsOnLight(vpl_ ? vpl_->effects : effects_) && !sameLight(lightAtSetup_, scene.light);
+}
+
+// Sets the method up again for the light where it is now, inside the frame: its cost is the
+// frame's (programs come from the in-process binary cache, so this is the rebuild, not a compile).
+void Runner::refit(Method& method, PassTimer& timer) {
+  if (!effects_.scattering) return;
+  auto scope = timer.scope(kLightRefitPass);
+  const Scene& scene = vpl_ ? vpl_->scene : live();
+  const Effects& effects = vpl_ ? vpl_->effects : effects_;
+  SetupContext context{scene, *geometry_, effects, options_.width, options_.height, setupParams_.getInt("sm"), limits_};
+  method.setup(context, setupParams_);
+  lightAtSetup_ = live().light;
+  gl::resetPipelineState();
+}
+
 void Runner::renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record) {
+  const bool refitting = followAnimation(method, frameIndex);
   if (vpl_) return renderFrameVpl(method, timer, frameIndex, record);
   shared_->updateUniforms(frameIndex, options_.seed);
   gl::resetPipelineState();
   timer.beginFrame(record);
+  if (refitting) refit(method, timer);
   if (sharedShadowMap_) shared_->renderShadowMap(timer);
   shared_->renderGBuffer(timer);
   shared_->renderDirect(timer);

@@ -78,6 +78,10 @@ class Runner {
   // (wall-clock ms; throws on failure); renderFrame runs one frame of the pipeline, every pass
   // timed (recorded when `record`). The scene's camera and light are read every frame: after moving the light call
   // shared().lightMoved() and set the method up again.
+  // A moving scene (Scene::animation) is shown at t = animation.timeOf(frameIndex): renderFrame
+  // moves the camera and the light there first, and when the light moved, a method that fits its
+  // structures to the light (Method::lightFixedAtSetup) is set up again inside the frame, timed as
+  // its pass "Light Refit", so the rebuild is part of the frame's cost.
   double setUp(Method& method, const ParamValues& params);
   void renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record = true);
   // The shared passes of the method set up last (the per-VPL wrapper has its own).
@@ -87,8 +91,17 @@ class Runner {
 
  private:
   const Scene& scene_;
+  // A moving scene at the current frame's time (a copy of scene_ whose camera and light follow the
+  // animation); null for a still scene, which is read live (the viewer moves its camera and light).
+  std::unique_ptr<Scene> moving_;
+  const Scene& live() const { return moving_ ? *moving_ : scene_; }
   const gl::Limits& limits_;
   RunOptions options_;
+  // What the method set up last was fitted to, to be set up again when the light moves.
+  ParamValues setupParams_;
+  Light lightAtSetup_;
+  bool followAnimation(Method& method, uint32_t frameIndex);  // true: the method must be refitted
+  void refit(Method& method, PassTimer& timer);
   Effects effects_;
   std::unique_ptr<SceneGpu> geometry_;
   std::unique_ptr<SharedPasses> shared_;
@@ -97,6 +110,10 @@ class Runner {
   std::unique_ptr<VplWrapper> vpl_;  // set when the method set up last runs per VPL
   void renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record);
 };
+
+// The pass a frame of a moving scene runs when a method set up for one light position is set up
+// again for the light's new state.
+inline constexpr const char* kLightRefitPass = "Light Refit";
 
 // Runner::unsupportedReason without a Runner.
 std::string unsupportedReason(const Scene& scene, const Method& method, const ParamValues& params);

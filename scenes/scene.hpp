@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "scenes/animation.hpp"
+
 namespace vs {
 
 // Any problem with scene input (missing file, malformed JSON/glTF, out-of-range value).
@@ -140,6 +142,7 @@ struct Scene {
   std::vector<AlphaTexture> alphaTextures;  // referenced by Mesh::alphaTexture
   std::string contentHash; // hash of the scene's defining text and referenced files (cache keys)
   size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
+  Animation animation;          // keyframed camera and light; still unless animation.moves()
 
   size_t triangleCount() const;
   // Axis-aligned bounds of all geometry and volume boxes; a unit box around the origin when empty.

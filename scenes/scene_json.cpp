@@ -332,6 +332,120 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
   entry.location().fail("needs a 'generator', 'gltf' or 'obj' key");
 }
 
+// ---- animation (format: scenes/README.md, "Animation")
+
+// A track: {"times": [...], "values": [...], "interpolation": "linear" | "step" | "catmull-rom"}.
+template <typename T, typename ReadValue>
+Track<T> readTrack(ObjectReader track, double duration, ReadValue readValue) {
+  Track<T> out;
+  track.declare({"times", "values", "interpolation"});
+  const Json& times = track.required("times");
+  const Json& values = track.required("values");
+  JsonLocation timesAt = track.locationOf("times"), valuesAt = track.locationOf("values");
+  if (!times.is_array()) timesAt.fail("expected an array of key times, got " + std::string(times.type_name()));
+  if (!values.is_array()) valuesAt.fail("expected an array of key values, got " + std::string(values.type_name()));
+  if (times.empty()) timesAt.fail("a track needs at least one key");
+  if (values.size() != times.size())
+    valuesAt.fail("has " + std::to_string(values.size()) + " values for " + std::to_string(times.size()) + " key times");
+  for (size_t i = 0; i < times.size(); ++i) {
+    float t = float(readNumber(times[i], timesAt.item(i), Range::closed(0.0, duration)));
+    if (i > 0 && !(t > out.times.back()))
+      timesAt.item(i).fail("key times must increase strictly (" + formatNumber(t) + " after " +
+                           formatNumber(out.times.back()) + ")");
+    out.times.push_back(t);
+    out.values.push_back(readValue(values[i], valuesAt.item(i)));
+  }
+  std::string mode = track.choice("interpolation", {"linear", "step", "catmull-rom"}, "linear");
+  out.mode = mode == "step" ? Interpolation::Step : mode == "catmull-rom" ? Interpolation::CatmullRom : Interpolation::Linear;
+  track.finish();
+  return out;
+}
+
+Track<glm::vec3> vec3Track(ObjectReader& owner, const std::string& key, double duration) {
+  const Json* value = owner.optional(key);
+  if (!value) return {};
+  return readTrack<glm::vec3>(ObjectReader(*value, owner.locationOf(key)), duration,
+                              [](const Json& v, const JsonLocation& at) { return readVec3(v, at, Range::any()); });
+}
+
+Track<float> numberTrack(ObjectReader& owner, const std::string& key, double duration, Range range) {
+  const Json* value = owner.optional(key);
+  if (!value) return {};
+  return readTrack<float>(ObjectReader(*value, owner.locationOf(key)), duration,
+                          [range](const Json& v, const JsonLocation& at) { return float(readNumber(v, at, range)); });
+}
+
+void readCameraTracks(ObjectReader camera, Animation& a) {
+  camera.declare({"position", "target", "fov_y_deg"});
+  a.cameraPosition = vec3Track(camera, "position", a.duration);
+  a.cameraTarget = vec3Track(camera, "target", a.duration);
+  a.cameraFov = numberTrack(camera, "fov_y_deg", a.duration, Range::open(0.0, 180.0));
+  camera.finish();
+}
+
+void readLightTracks(ObjectReader light, const Light& still, Animation& a) {
+  light.declare({"position", "direction", "target", "intensity", "width", "height", "radius", "tangent"});
+  const LightType type = still.type;
+  const bool hasPosition = type != LightType::Directional, hasDirection = type != LightType::Point;
+  const std::string name = lightTypeName(type);
+  if (!hasPosition) light.forbid("position", "a directional light has no position to move");
+  if (!hasDirection) {
+    light.forbid("direction", "a point light has no direction to move");
+    light.forbid("target", "a point light has no direction to move");
+  }
+  if (light.has("direction") && light.has("target")) light.fail("target", "give either direction or target, not both");
+  if (type != LightType::Rect) {
+    light.forbid("width", "only rect lights have a width (this one is " + name + ")");
+    light.forbid("height", "only rect lights have a height (this one is " + name + ")");
+  }
+  if (type != LightType::Disk) light.forbid("radius", "only disk lights have a radius (this one is " + name + ")");
+  if (!isAreaLight(type)) light.forbid("tangent", "only area lights have a tangent");
+  a.lightPosition = vec3Track(light, "position", a.duration);
+  a.lightDirection = vec3Track(light, "direction", a.duration);
+  a.lightTarget = vec3Track(light, "target", a.duration);
+  a.lightTangent = vec3Track(light, "tangent", a.duration);
+  a.lightIntensity = numberTrack(light, "intensity", a.duration, Range::closed(0.0, 1e20));
+  a.lightWidth = numberTrack(light, "width", a.duration, Range::above(0.0));
+  a.lightHeight = numberTrack(light, "height", a.duration, Range::above(0.0));
+  a.lightRadius = numberTrack(light, "radius", a.duration, Range::above(0.0));
+  light.finish();
+}
+
+// Every frame of the sequence must be a valid still scene: the camera looks somewhere, the light
+// has a direction. Checked at load, so no frame fails (or divides by zero) half way through a run.
+void checkEveryFrame(const Scene& scene, const JsonLocation& at) {
+  const Animation& a = scene.animation;
+  for (int i = 0; i < a.frameCount(); ++i) {
+    const double t = a.timeOf(uint32_t(i));
+    Camera camera = scene.camera;
+    Light light = scene.light;
+    a.apply(t, camera, light);
+    const std::string when = "at t = " + formatNumber(t) + " s (frame " + std::to_string(i) + "): ";
+    glm::vec3 view = camera.target - camera.position;
+    if (!(glm::length(view) > 1e-6f)) at.child("camera").fail(when + "the camera's target coincides with its position");
+    if (glm::length(glm::cross(glm::normalize(view), camera.up)) < 1e-4f)
+      at.child("camera").fail(when + "the camera looks along its up vector");
+    if (a.lightDirection.empty() && a.lightTarget.empty()) continue;
+    glm::vec3 direction = a.lightTarget.empty() ? a.lightDirection.at(t) : a.lightTarget.at(t) - light.position;
+    if (!(glm::length(direction) > 1e-6f)) at.child("light").fail(when + "the light's direction is zero");
+  }
+}
+
+Animation readAnimation(ObjectReader animation, const Scene& scene) {
+  Animation a;
+  animation.declare({"duration", "fps", "camera", "light"});
+  a.duration = animation.number("duration", Range::open(0.0, 3600.0));
+  a.fps = animation.number("fps", 24.0, Range::closed(1.0, 1000.0));
+  if (a.duration * a.fps > 100000.0)
+    animation.fail("duration", "the sequence has more than 100,000 frames (duration x fps)");
+  if (const Json* camera = animation.optional("camera")) readCameraTracks(ObjectReader(*camera, animation.locationOf("camera")), a);
+  if (const Json* light = animation.optional("light"))
+    readLightTracks(ObjectReader(*light, animation.locationOf("light")), scene.light, a);
+  animation.finish();
+  if (!a.movesCamera() && !a.movesLight()) animation.fail("camera", "an animation needs at least one track (camera or light)");
+  return a;
+}
+
 std::string sceneNameFromOrigin(const std::string& origin) {
   if (origin.rfind(kBuiltinPrefix, 0) == 0) return origin.substr(std::string(kBuiltinPrefix).size());
   return fs::path(origin).stem().string();
@@ -342,7 +456,7 @@ std::string sceneNameFromOrigin(const std::string& origin) {
 Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin) {
   Json document = parseJsonStrict(text, origin);
   ObjectReader root(document, JsonLocation{origin, ""});
-  for (const char* key : {"description", "geometry", "camera", "light", "medium", "volumes"}) root.has(key);
+  for (const char* key : {"description", "geometry", "camera", "light", "medium", "volumes", "animation"}) root.has(key);
   root.finish();  // catch misspelt top-level keys before any heavy work
 
   Scene scene;
@@ -378,6 +492,11 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
     scene.light = result.gltfLight;
   } else {
     root.fail("light", "missing required key (and no glTF file in the scene has a KHR_lights_punctual light)");
+  }
+
+  if (const Json* animation = root.optional("animation")) {
+    scene.animation = readAnimation(ObjectReader(*animation, root.locationOf("animation")), scene);
+    checkEveryFrame(scene, root.locationOf("animation"));
   }
 
   scene.alphaTextures = std::move(result.alphaTextures);

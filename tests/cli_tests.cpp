@@ -32,8 +32,13 @@ TEST(CliTest, ListShowsScenesMethodsAndParameters) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   for (const char* s : {"spheres", "room", "fence", "trees", "terrain", "volumes", "cloud", "foliage", "arealight",
                         "raymarch", "steps", "jitter", "sm", "light_samples", "volume-data", "semi-transparent",
-                        "colored-shadows", "area-light"})
+                        "colored-shadows", "area-light", "sunsweep"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
+  // Which scenes move, and how.
+  EXPECT_NE(r.out.find("moves: 2 s at 12 fps (25 frames): light direction"), std::string::npos) << r.out;
+  // raymarch's two brute-force series on point and spot lights.
+  EXPECT_NE(r.out.find("shootout ladder (equiangular, point and spot lights): steps=8:sampling=equiangular"),
+            std::string::npos);
 }
 
 TEST(CliTest, HelpExitsCleanly) {
@@ -124,6 +129,37 @@ TEST(CliTest, ShootoutRunsPointLightMethodsPerVplOnAnAreaLight) {
   EXPECT_EQ(status["ivsv"], "Success");
   EXPECT_NE(params["ivsv"].find("vpls=0"), std::string::npos) << params["ivsv"];  // area lights natively
   EXPECT_EQ(status["slicemap"], "Unsupported");  // its setup fits one light position
+}
+
+// A moving scene through the binary: the compared frame's time is recorded, the reference is the
+// scene at that time, and the light-fitted methods pay for their refits in the frame.
+TEST(CliTest, MovingSceneRecordsItsComparedFrameAndRefitsInTheFrame) {
+  std::string dir = makeTempDir("moving");
+  CommandResult r = runVshadow({"shootout", "--scene", "sunsweep", "--size", "32x24", "--frames", "2", "--warmup", "2",
+                                "--rungs", "first", "--method", "raymarch", "--method", "slicemap", "--no-images",
+                                "--out", dir + "/out", "--cache", dir + "/cache"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto meta = nlohmann::json::parse(readFile(dir + "/out/meta.json"));
+  const auto& animation = meta["scene"]["animation"];
+  ASSERT_TRUE(animation.is_object()) << meta["scene"].dump();
+  EXPECT_EQ(animation["compared_frame"], 3);
+  EXPECT_DOUBLE_EQ(animation["compared_time_s"].get<double>(), 0.25);
+  EXPECT_EQ(animation["sequence_frames"], 25);
+  CsvTable runs = loadCsv(dir + "/out/runs.csv", runsColumns(), kRunsKeyColumns);
+  int slicemapRows = 0;
+  for (const auto& row : runs.rows()) {
+    ASSERT_EQ(field(runs, row, "status"), "Success") << field(runs, row, "reason");
+    const std::string passes = field(runs, row, "passes");
+    const bool refits = passes.find(kLightRefitPass) != std::string::npos;
+    if (field(runs, row, "method") == "slicemap") {
+      ++slicemapRows;
+      EXPECT_TRUE(refits) << passes;  // its slices are fitted to the light, which moves every frame
+    } else {
+      EXPECT_FALSE(refits) << passes;
+    }
+    EXPECT_FALSE(field(runs, row, "frame_p95_ms").empty());
+  }
+  EXPECT_EQ(slicemapRows, 1);
 }
 
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {

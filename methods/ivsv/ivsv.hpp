@@ -41,6 +41,11 @@ class IvsvMethod : public Method {
             "visibility quantised to a coarse epipolar grid per VPL"};
   }
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
+  // The VPLs, the light's frame and the ISMs' depth range are placed in setup.
+  bool setupDependsOnLight(const Effects& effects) const override {
+    (void)effects;
+    return true;
+  }
   // The ISM's holes leak light: with the light shut inside a box (tests/hard_cases.cpp) L_s
   // relMSE reaches 0.05 at the defaults.
   double declaredRelMseBound() const override { return 0.1; }

@@ -13,6 +13,8 @@ class RaymarchMethod : public Method {
   std::vector<std::string> qualityLadder() const override;
   std::vector<QualitySeries> qualitySeries(const Effects& effects) const override;
   std::string referenceParams(const Effects& effects) const override;
+  // Area lights: the light's sample points and their cube maps' range are placed in setup.
+  bool setupDependsOnLight(const Effects& effects) const override { return effects.areaLight; }
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;

@@ -280,6 +280,17 @@ TEST(BuiltinScenes, AllLoadWithTheirStatedSizes) {
   EXPECT_EQ(vs::loadScene("fence").light.type, vs::LightType::Spot);
   EXPECT_EQ(vs::loadScene("trees").light.type, vs::LightType::Directional);
   EXPECT_EQ(vs::loadScene("terrain").light.type, vs::LightType::Directional);
+  // A moving built-in scene: the sun sweeps over the terrain; the epipole enters the screen.
+  Scene sweep = vs::loadScene("sunsweep");
+  ASSERT_TRUE(sweep.animation.moves());
+  EXPECT_TRUE(sweep.animation.movesLight());
+  bool inView = false, outOfView = false;
+  for (int i = 0; i < sweep.animation.frameCount(); ++i) {
+    bool seen = lightInView(vs::sceneAt(sweep, sweep.animation.timeOf(uint32_t(i))));
+    inView = inView || seen;
+    outOfView = outOfView || !seen;
+  }
+  EXPECT_TRUE(inView && outOfView) << "the sun must enter and leave the view";
 }
 
 TEST(BuiltinScenes, LightIsInsideTheRoom) {
@@ -972,4 +983,109 @@ TEST(Obj, MalformedLinesAndMissingFilesAreOneLineErrorsWithLineNumbers) {
   expectErrorMentions(objError("mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), {"missing.mtl", "mtllib"});
   expectErrorMentions(loadError(dir, sceneText(R"({"obj": "nowhere.obj"})")), {"nowhere.obj"});
   expectErrorMentions(loadError(dir, sceneText(R"({"obj": "bad.obj", "albedo": [1, 1, 1]})")), {"geometry[0].albedo"});
+}
+
+namespace {
+
+std::string movingScene(const std::string& animation, const std::string& light = kPointLight) {
+  return sceneText(R"({"generator": "sphere", "params": {"center": [0, 1, 0], "radius": 0.5}})", light,
+                   "\"animation\": " + animation);
+}
+
+}  // namespace
+
+TEST(Animation, TracksInterpolateLinearStepAndCatmullRomThroughTheirKeys) {
+  vs::Track<float> track;
+  track.times = {0.0f, 1.0f, 3.0f};
+  track.values = {0.0f, 2.0f, 4.0f};
+  track.mode = vs::Interpolation::Linear;
+  EXPECT_FLOAT_EQ(track.at(-1.0), 0.0f);  // before the first key: its value
+  EXPECT_FLOAT_EQ(track.at(0.5), 1.0f);
+  EXPECT_FLOAT_EQ(track.at(2.0), 3.0f);
+  EXPECT_FLOAT_EQ(track.at(9.0), 4.0f);  // after the last key: its value
+  track.mode = vs::Interpolation::Step;
+  EXPECT_FLOAT_EQ(track.at(0.99), 0.0f);
+  EXPECT_FLOAT_EQ(track.at(1.0), 2.0f);
+  EXPECT_FLOAT_EQ(track.at(2.9), 2.0f);
+  track.mode = vs::Interpolation::CatmullRom;
+  for (size_t k = 0; k < track.times.size(); ++k) EXPECT_NEAR(track.at(track.times[k]), track.values[k], 1e-6);
+  // C1 at the middle key: the slopes on both sides agree.
+  const double h = 1e-3;
+  double left = (track.at(1.0) - track.at(1.0 - h)) / h, right = (track.at(1.0 + h) - track.at(1.0)) / h;
+  EXPECT_NEAR(left, right, 1e-2);
+  // Collinear keys stay on their line.
+  vs::Track<glm::vec3> line;
+  line.times = {0.0f, 1.0f, 2.0f};
+  line.values = {glm::vec3(0), glm::vec3(1, 2, 3), glm::vec3(2, 4, 6)};
+  line.mode = vs::Interpolation::CatmullRom;
+  glm::vec3 mid = line.at(0.5);
+  EXPECT_NEAR(mid.x, 0.5f, 1e-5f);
+  EXPECT_NEAR(mid.y, 1.0f, 1e-5f);
+  EXPECT_NEAR(mid.z, 1.5f, 1e-5f);
+}
+
+TEST(Animation, FrameTimesArePureFunctionsOfTheFrameIndexAndLoop) {
+  Scene scene = parse(movingScene(R"({"duration": 1, "fps": 4,
+    "light": {"position": {"times": [0, 1], "values": [[0, 5, 0], [4, 5, 0]]}}})"));
+  const vs::Animation& a = scene.animation;
+  ASSERT_TRUE(a.moves());
+  EXPECT_TRUE(a.movesLight());
+  EXPECT_FALSE(a.movesCamera());
+  EXPECT_EQ(a.frameCount(), 5);  // t = 0, 0.25, 0.5, 0.75, 1
+  EXPECT_DOUBLE_EQ(a.timeOf(2), 0.5);
+  EXPECT_DOUBLE_EQ(a.timeOf(4), 1.0);
+  EXPECT_DOUBLE_EQ(a.timeOf(5), 0.0);  // the sequence loops
+  EXPECT_NE(a.describe().find("light position"), std::string::npos) << a.describe();
+
+  Scene atHalf = vs::sceneAt(scene, 0.5);
+  EXPECT_FALSE(atHalf.animation.moves());
+  EXPECT_NEAR(atHalf.light.position.x, 2.0f, 1e-6f);
+  EXPECT_NE(atHalf.contentHash, scene.contentHash);
+  EXPECT_NE(atHalf.contentHash, vs::sceneAt(scene, 0.25).contentHash);
+  EXPECT_EQ(atHalf.contentHash, vs::sceneAt(scene, 0.5).contentHash);
+  // A still scene is its own state at any time.
+  Scene still = parse(sceneText(""));
+  EXPECT_FALSE(still.animation.moves());
+  EXPECT_EQ(vs::sceneAt(still, 3.0).contentHash, still.contentHash);
+}
+
+TEST(Animation, DirectionsStayUnitAndCameraTracksMoveTheCamera) {
+  Scene scene = parse(movingScene(R"({"duration": 2,
+    "camera": {"position": {"times": [0, 2], "values": [[0, 2, 6], [6, 2, 0]], "interpolation": "catmull-rom"},
+               "fov_y_deg": {"times": [0, 2], "values": [40, 80], "interpolation": "step"}},
+    "light": {"direction": {"times": [0, 2], "values": [[0, -1, 0], [1, -1, 0]]}}})",
+                                  R"("light": {"type": "directional", "direction": [0, -1, 0], "intensity": 2})"));
+  Scene mid = vs::sceneAt(scene, 1.0);
+  EXPECT_NEAR(glm::length(mid.light.direction), 1.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(mid.camera.fovYDeg, 40.0f);
+  EXPECT_FLOAT_EQ(vs::sceneAt(scene, 2.0).camera.fovYDeg, 80.0f);
+  EXPECT_NEAR(vs::sceneAt(scene, 2.0).camera.position.x, 6.0f, 1e-5f);
+}
+
+TEST(Animation, BadTracksAreOneLineErrors) {
+  TempDir dir;
+  const std::string position = R"("position": {"times": [0, 1], "values": [[0, 5, 0], [1, 5, 0]]})";
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [0.5, 0.5], "values": [[0,5,0],[1,5,0]]}}})")),
+                      {"animation.light.position.times[1]", "increase strictly"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [], "values": []}}})")),
+                      {"animation.light.position.times", "at least one key"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [0, 1], "values": [[0,5,0]]}}})")),
+                      {"animation.light.position.values", "1 values for 2 key times"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [0, 2], "values": [[0,5,0],[1,5,0]]}}})")),
+                      {"animation.light.position.times[1]"});  // past the duration
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {)" + position + R"(, "interpolation": "cubic"}})")),
+                      {"animation.light"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [0], "values": [[0,5,0]], "interpolation": "cubic"}}})")),
+                      {"animation.light.position.interpolation", "catmull-rom"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "lihgt": {)" + position + "}}")),
+                      {"animation.lihgt", "light"});  // unknown key, with the likely one
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1})")), {"animation", "at least one track"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 0, "light": {)" + position + "}}")),
+                      {"animation.duration"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"direction": {"times": [0], "values": [[0,-1,0]]}}})")),
+                      {"animation.light.direction", "point light"});  // the light type has no such track
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "camera": {"position": {"times": [0, 1], "values": [[0,2,6],[0,1,0]]}}})")),
+                      {"animation.camera", "target coincides with its position", "frame"});
+  expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [0], "values": [[0,"x",0]]}}})")),
+                      {"animation.light.position.values[0]"});
 }
