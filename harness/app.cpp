@@ -156,6 +156,7 @@ struct Baselines {
   GroundTruth exact;    // valid when plan.haveExact
   std::string referenceLabel;
   float exposure = 1.0f;
+  int referenceShadowMap = 64;  // the shadow-map size the reference was rendered with
 };
 
 // A finished job with its error metrics.
@@ -511,13 +512,16 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
 class ResultFiles {
  public:
   ResultFiles(const std::string& dir, const std::string& sceneName, bool images)
-      : runs_(runsColumns(), kRunsKeyColumns), passes_(passesColumns(), kPassesKeyColumns), images_(images) {
+      : runs_(runsColumns(), kRunsKeyColumns), passes_(passesColumns(), kPassesKeyColumns),
+        frames_(framesColumns(), kFramesKeyColumns), images_(images) {
     prepareOutputDir(dir);
     runsPath_ = dir + "/runs.csv";
     passesPath_ = dir + "/passes.csv";
+    framesPath_ = dir + "/frames.csv";
     metaPath_ = dir + "/meta.json";
     runs_.loadExisting(runsPath_);
     passes_.loadExisting(passesPath_);
+    frames_.loadExisting(framesPath_);
     imageDir_ = fs::path(dir) / "images" / sanitize(sceneName);
     if (images_) fs::create_directories(imageDir_);
   }
@@ -547,6 +551,7 @@ class ResultFiles {
       ResultRow row(passesColumns());
       row.set("scene", sceneName).set("method", r.method).set("params", r.params).set("pass", pass);
       row.set("median_ms", s.medianMs).set("min_ms", s.minMs).set("max_ms", s.maxMs).set("mdape_pct", s.mdapePct);
+      row.set("p95_ms", s.p95Ms).set("p99_ms", s.p99Ms);
       row.set("frames", s.samples).set("timer", timer).set("renderer", renderer);
       if (perRound && !perRound->empty()) {
         auto [lo, hi] = roundRange(*perRound);
@@ -562,12 +567,34 @@ class ResultFiles {
     runs_.save(runsPath_);
     passes_.save(passesPath_);
   }
-  std::string summary() const { return "results: " + runsPath_ + "  " + passesPath_ + "  " + metaPath_; }
+  // frames.csv: a moving scene's row, frame by frame (time, frame and pass times, L_s errors).
+  void addFrames(const MethodRun& r, const std::vector<ErrorMetrics>& errors, const std::string& sceneName,
+                 const std::string& timer, const std::string& renderer) {
+    frames_.removeWhere({{"scene", sceneName}, {"method", r.method}, {"params", r.params}});
+    for (size_t k = 0; k < r.sequence.size(); ++k) {
+      const MethodRun::SequenceFrame& f = r.sequence[k];
+      std::string passes;
+      for (const auto& [pass, ms] : f.passMs)
+        if (pass != PassTimer::kFrame) passes += (passes.empty() ? "" : ";") + pass + "=" + num(ms);
+      ResultRow row(framesColumns());
+      row.set("scene", sceneName).set("method", r.method).set("params", r.params).set("frame", double(f.index));
+      row.set("time_s", f.timeS).set("pass_ms", passes).set("timer", timer).set("renderer", renderer);
+      auto frameMs = f.passMs.find(PassTimer::kFrame);
+      if (frameMs != f.passMs.end()) row.set("frame_ms", frameMs->second);
+      if (k < errors.size()) row.set("ls_rmse", errors[k].rmse).set("ls_relmse", errors[k].relmse);
+      frames_.upsert(row);
+    }
+    frames_.save(framesPath_);
+    wroteFrames_ = true;
+  }
+  std::string summary() const {
+    return "results: " + runsPath_ + "  " + passesPath_ + (wroteFrames_ ? "  " + framesPath_ : "") + "  " + metaPath_;
+  }
 
  private:
-  CsvTable runs_, passes_;
-  bool images_;
-  std::string runsPath_, passesPath_, metaPath_;
+  CsvTable runs_, passes_, frames_;
+  bool images_, wroteFrames_ = false;
+  std::string runsPath_, passesPath_, framesPath_, metaPath_;
   fs::path imageDir_;
 };
 
@@ -605,8 +632,9 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
   } else {
     int sm = 0;
     for (const auto& j : plan.jobs) sm = std::max(sm, j.params.getInt("sm"));
+    base.referenceShadowMap = std::max(sm, 64);
     progress.item(item, "reference");
-    ref = obtainReference(plan.stillScene, limits, options, std::max(sm, 64),
+    ref = obtainReference(plan.stillScene, limits, options, base.referenceShadowMap,
                           req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir, registry, req.referenceSpec);
     progress.finished(ref.method + " " + ref.params + " (" +
                       (ref.fromCache ? std::string("from cache") : "computed in " + num(ref.computeMs / 1000.0) + " s") +
@@ -819,18 +847,14 @@ class Measurement {
  public:
   Measurement(const RowContext& rows, const MethodRegistry& registry, const gl::Limits& limits,
               const RunOptions& options, ResultFiles& files, Progress& progress)
-      : rows_(rows), registry_(registry), limits_(limits), files_(files), progress_(progress),
-        runner_(rows.plan.scene, limits, options),
+      : rows_(rows), registry_(registry), limits_(limits), files_(files), progress_(progress), options_(options),
+        sequence_(rows.plan.scene.animation.moves() && rows.plan.haveReference && !rows.plan.exactReference),
+        runner_(rows.plan.scene, limits, sequenceOptions(options, sequence_)),
         guard_([this] { return probe().measure(); },
                DriftPolicy{rows.req.driftThresholdPct, rows.req.driftRetries, rows.req.driftThresholdPct > 0.0}),
         firsts_(rows.plan.jobs.size()), timings_(rows.plan.jobs.size()), matches_(rows.plan.jobs.size()),
-        drift_(rows.plan.jobs.size()) {
+        drift_(rows.plan.jobs.size()), sequenceMetrics_(rows.plan.jobs.size()) {
     const RunPlan& plan = rows.plan;
-    // Later rounds only time: no images, errors or work counters (those come from the first).
-    RunOptions later = options;
-    later.workCounters = false;
-    if (rows.req.rounds > 1 || rows.req.equalQuality || guard_.policy().enabled)
-      laterRunner_ = std::make_unique<Runner>(plan.scene, limits, later);
     if (rows.req.equalQuality && plan.haveReference && plan.effects.scattering)
       equalQuality_ = std::make_unique<EqualQuality>(
           plan, limits, registry, options,
@@ -883,9 +907,68 @@ class Measurement {
   }
 
  private:
+  // Later rounds and repeated ones only time: no images, errors or work counters (those come from
+  // the first). Made when first needed: a scene's geometry is uploaded once more.
+  Runner& laterRunner() {
+    if (!laterRunner_) {
+      RunOptions later = options_;
+      later.workCounters = false;
+      laterRunner_ = std::make_unique<Runner>(rows_.plan.scene, limits_, later);
+    }
+    return *laterRunner_;
+  }
   CalibrationProbe& probe() {
     if (!probe_) probe_ = std::make_unique<CalibrationProbe>();
     return *probe_;
+  }
+  static RunOptions sequenceOptions(RunOptions options, bool sequence) {
+    options.sequence = sequence;
+    return options;
+  }
+
+  // A moving scene's errors over the first round's measured frames, each against the reference
+  // of its own time, and the temporal error between consecutive frames.
+  struct SequenceMetrics {
+    bool measured = false;
+    int frames = 0;
+    double rmseMean = 0, rmseMax = 0, relmseMean = 0, relmseMax = 0;
+    TemporalError temporal;
+  };
+  void measureSequence(size_t j) {
+    MethodRun& r = firsts_[j].run;
+    std::vector<ErrorMetrics> errors;
+    std::vector<const Image*> frames, references;
+    for (const MethodRun::SequenceFrame& f : r.sequence) {
+      const Image& reference = referenceAt(f.index);
+      errors.push_back(compareImages(f.inscatter, reference));
+      frames.push_back(&f.inscatter);
+      references.push_back(&reference);
+    }
+    SequenceMetrics& m = sequenceMetrics_[j];
+    m.measured = !errors.empty();
+    m.frames = int(errors.size());
+    for (const ErrorMetrics& e : errors) {
+      m.rmseMean += e.rmse / double(errors.size());
+      m.relmseMean += e.relmse / double(errors.size());
+      m.rmseMax = std::max(m.rmseMax, e.rmse);
+      m.relmseMax = std::max(m.relmseMax, e.relmse);
+    }
+    m.temporal = temporalError(frames, references);
+    files_.addFrames(r, errors, rows_.plan.scene.name, rows_.timer, rows_.renderer);
+    r.sequence.clear();  // measured: the images are not kept
+  }
+  // The reference's L_s for the scene at frame `index`'s time (cached on disk per time).
+  const Image& referenceAt(uint32_t index) {
+    const RunPlan& plan = rows_.plan;
+    const double t = plan.scene.animation.timeOf(index);
+    auto it = frameReferences_.find(t);
+    if (it != frameReferences_.end()) return it->second;
+    if (t == plan.scene.animation.timeOf(plan.comparedFrame)) return frameReferences_[t] = rows_.base.reference.inscatter;
+    progress_.note("reference of frame " + std::to_string(index) + " (t = " + num(t) + " s)");
+    Reference ref = obtainReference(sceneAt(plan.scene, t), limits_, options_, rows_.base.referenceShadowMap,
+                                    rows_.req.cacheDir.empty() ? defaultCacheDir() : rows_.req.cacheDir, registry_,
+                                    rows_.req.referenceSpec);
+    return frameReferences_[t] = std::move(ref.inscatter);
   }
 
   // One round of job j, guarded: run again while the calibration around it moved.
@@ -904,16 +987,16 @@ class Measurement {
         kept = first.run;
       } else {
         auto method = createMethod(registry_, job.method);
-        kept = laterRunner_->run(*method, job.params, [&](int done, int total) { progress_.frames(done, total); });
+        kept = laterRunner().run(*method, job.params, [&](int done, int total) { progress_.frames(done, total); });
       }
       if (equalQuality_)
-        baselineMs = timeMatchedBaselines(matches_[j], *laterRunner_, registry_, limits_, *equalQuality_,
+        baselineMs = timeMatchedBaselines(matches_[j], laterRunner(), registry_, limits_, *equalQuality_,
                                           first.run.shadowMapSize, progress_);
       return kept.status == RunStatus::Success;
     });
     if (guard_.takeFirstWarning())
       progress_.note("warning: the machine's speed changed during a round (calibration moved " +
-                     num(std::max(guarded.driftPct, guarded.shiftPct)) + " %, threshold " +
+                     num(guard_.firstDisturbancePct()) + " %, threshold " +
                      num(guard_.policy().thresholdPct) + " %); disturbed rounds are repeated up to " +
                      std::to_string(guard_.policy().maxRetries) +
                      " times and rows still measured so are marked disturbed=1 in runs.csv");
@@ -932,6 +1015,7 @@ class Measurement {
   void measureFirst(size_t j) {
     Measured& first = firsts_[j];
     first = measureJob(runner_, rows_.plan.jobs[j], registry_, rows_.plan, rows_.base, progress_);
+    if (sequence_ && first.run.status == RunStatus::Success) measureSequence(j);
     if (first.run.status == RunStatus::Failure) ++failures_;
     if (first.run.status != RunStatus::Success) progress_.skip(rows_.req.rounds - 1);  // no later rounds
     files_.writeImages(first.run, rows_.base, rows_.plan.haveReference);
@@ -959,6 +1043,11 @@ class Measurement {
       row.set("frame_round_min_ms", frameLo).set("frame_round_max_ms", frameHi);
       row.set("scatter_round_min_ms", *std::min_element(t.scatter.begin(), t.scatter.end()));
       row.set("scatter_round_max_ms", *std::max_element(t.scatter.begin(), t.scatter.end()));
+      if (const SequenceMetrics& q = sequenceMetrics_[j]; q.measured) {
+        row.set("seq_frames", q.frames).set("seq_ls_rmse_mean", q.rmseMean).set("seq_ls_rmse_max", q.rmseMax);
+        row.set("seq_ls_relmse_mean", q.relmseMean).set("seq_ls_relmse_max", q.relmseMax);
+        row.set("temporal_ls_rmse", q.temporal.rmse).set("temporal_ls_rel", q.temporal.relative);
+      }
       if (guard_.policy().enabled) {
         const RowDrift& d = drift_[j];
         row.set("calibration_drift_pct", d.driftPct).set("calibration_shift_pct", d.shiftPct);
@@ -982,6 +1071,8 @@ class Measurement {
   const gl::Limits& limits_;
   ResultFiles& files_;
   Progress& progress_;
+  RunOptions options_;
+  bool sequence_;  // a moving scene with a reference: errors over every measured frame
   Runner runner_;
   std::unique_ptr<Runner> laterRunner_;
   std::unique_ptr<EqualQuality> equalQuality_;
@@ -991,6 +1082,8 @@ class Measurement {
   std::vector<RoundTimings> timings_;
   std::vector<RowMatches> matches_;
   std::vector<RowDrift> drift_;
+  std::vector<SequenceMetrics> sequenceMetrics_;
+  std::map<double, Image> frameReferences_;  // by time
   int failures_ = 0;
 };
 

@@ -131,7 +131,10 @@ GuardedRound DriftGuard::run(const std::function<bool(int)>& attempt) {
     round.disturbed = drifted || round.shiftPct > policy_.thresholdPct;
     if (round.disturbed) {
       ++disturbedRounds_;
-      if (!warned_) pendingWarning_ = true;
+      if (!warned_ && !pendingWarning_) {
+        pendingWarning_ = true;
+        firstDisturbancePct_ = std::max(round.driftPct, round.shiftPct);
+      }
     }
     // A shift alone is the machine's state, which repeating the round would not change.
     if (!drifted || k >= policy_.maxRetries) break;

@@ -68,6 +68,8 @@ class DriftGuard {
   int retries() const { return retries_; }
   // True once, on the first disturbed round: the caller warns the user then.
   bool takeFirstWarning();
+  // How far the calibration had moved in that first disturbed attempt (drift or shift, percent).
+  double firstDisturbancePct() const { return firstDisturbancePct_; }
 
  private:
   CalibrationSample sample();
@@ -76,6 +78,7 @@ class DriftGuard {
   std::vector<CalibrationSample> history_;
   int disturbedRounds_ = 0, retries_ = 0;
   bool warned_ = false, pendingWarning_ = false;
+  double firstDisturbancePct_ = 0;
 };
 
 // A row's calibration over its rounds: the largest drift and shift, retries, whether any kept round

@@ -203,6 +203,33 @@ ErrorMetrics compareImages(const Image& test, const Image& reference) {
   return metrics;
 }
 
+TemporalError temporalError(const std::vector<const Image*>& frames, const std::vector<const Image*>& references) {
+  if (frames.size() != references.size()) throw std::invalid_argument("temporalError: one reference per frame");
+  TemporalError out;
+  for (size_t k = 0; k < frames.size(); ++k)
+    if (frames[k]->width != references[k]->width || frames[k]->height != references[k]->height ||
+        frames[k]->width != frames[0]->width || frames[k]->height != frames[0]->height)
+      throw std::invalid_argument("temporalError: image sizes differ");
+  if (frames.size() < 2) return out;
+  double sum = 0.0, reference = 0.0;
+  size_t count = 0;
+  for (size_t k = 1; k < frames.size(); ++k) {
+    const auto &l1 = frames[k]->rgb, &l0 = frames[k - 1]->rgb, &r1 = references[k]->rgb, &r0 = references[k - 1]->rgb;
+    for (size_t i = 0; i < l1.size(); ++i) {
+      double d = (double(l1[i]) - double(l0[i])) - (double(r1[i]) - double(r0[i]));
+      sum += d * d;
+      reference += double(r1[i]) * double(r1[i]);
+    }
+    count += l1.size();
+  }
+  out.pairs = int(frames.size() - 1);
+  if (count == 0) return out;
+  out.rmse = std::isfinite(sum) ? std::sqrt(sum / double(count)) : std::numeric_limits<double>::infinity();
+  const double referenceRms = std::sqrt(reference / double(count));
+  out.relative = referenceRms > 0.0 ? out.rmse / referenceRms : (out.rmse > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  return out;
+}
+
 std::vector<uint8_t> falseColourError(const Image& test, const Image& reference, float fullScale) {
   requireSameSize(test, reference);
   const size_t pixels = size_t(test.width) * size_t(test.height);

@@ -26,6 +26,17 @@ struct ErrorMetrics {
 ErrorMetrics compareImages(const Image& test, const Image& reference);
 double ssimLuminance(const Image& a, const Image& b);
 
+// Temporal error of a sequence (frames in order, each with the reference of the same frame): the
+// change between consecutive frames that the reference does not have (flicker, lag, ghosting),
+// RMS over pixels, channels and consecutive pairs of ((L_t - L_{t-1}) - (R_t - R_{t-1})). `relative`
+// divides it by the RMS of the reference over the same frames. A constant bias, which a per-frame
+// error sees, gives 0. Fewer than two frames: 0. Throws like compareImages; non-finite: +inf.
+struct TemporalError {
+  double rmse = 0, relative = 0;
+  int pairs = 0;
+};
+TemporalError temporalError(const std::vector<const Image*>& frames, const std::vector<const Image*>& references);
+
 // False-colour map of per-pixel absolute luminance error (inferno-like ramp), scaled so that
 // `fullScale` maps to the top of the ramp (clamped; fullScale <= 0 puts any error there).
 // Non-finite errors are white. Returns 8-bit RGB, width*height*3. Throws like compareImages.

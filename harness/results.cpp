@@ -45,13 +45,20 @@ const std::vector<std::string>& runsColumns() {
       "equal_time_ls_rmse_uniform", "eq_equiangular_steps", "eq_equiangular_ms", "eq_equiangular_round_min_ms",
       "eq_equiangular_round_max_ms", "speedup_eq_equiangular", "speedup_eq_equiangular_round_min",
       "speedup_eq_equiangular_round_max", "equal_time_ls_rmse_equiangular", "exact_rmse", "exact_relmse", "exact_psnr",
-      "exact_ssim", "exact_ls_rmse", "exact_ls_relmse", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
+      "exact_ssim", "exact_ls_rmse", "exact_ls_relmse", "seq_frames", "seq_ls_rmse_mean", "seq_ls_rmse_max",
+      "seq_ls_relmse_mean", "seq_ls_relmse_max", "temporal_ls_rmse", "temporal_ls_rel", "width", "height", "shadow_map", "frames", "reference", "timer", "renderer", "date"};
+  return columns;
+}
+
+const std::vector<std::string>& framesColumns() {
+  static const std::vector<std::string> columns = {"scene", "method", "params", "frame", "time_s", "frame_ms",
+                                                   "ls_rmse", "ls_relmse", "pass_ms", "timer", "renderer"};
   return columns;
 }
 
 const std::vector<std::string>& passesColumns() {
   static const std::vector<std::string> columns = {"scene",  "method",    "params", "pass",         "median_ms",
-                                                   "min_ms", "max_ms",    "mdape_pct", "frames", "rounds",
+                                                   "min_ms", "max_ms",    "p95_ms", "p99_ms", "mdape_pct", "frames", "rounds",
                                                    "round_min_ms", "round_max_ms", "timer", "renderer"};
   return columns;
 }

@@ -57,6 +57,9 @@ const std::vector<std::string>& runsColumns();
 const std::vector<std::string>& passesColumns();
 constexpr size_t kRunsKeyColumns = 3;    // scene, method, params
 constexpr size_t kPassesKeyColumns = 4;  // scene, method, params, pass
+// frames.csv (moving scenes): one row per measured frame of a row.
+const std::vector<std::string>& framesColumns();
+constexpr size_t kFramesKeyColumns = 4;  // scene, method, params, frame
 
 // Number formatting for result files: up to 6 significant digits, "inf"/"nan" spelled out.
 std::string num(double v);

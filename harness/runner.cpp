@@ -290,9 +290,14 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     for (int f = total - measured; f < total; ++f) {
       renderFrame(method, timer, uint32_t(f), true);
       gl::checkErrors("frame");
+      if (options_.sequence)
+        result.sequence.push_back({uint32_t(f), scene_.animation.timeOf(uint32_t(f)), {}, shared().readInscatter()});
       if (progress) progress(f + 1, total);
     }
     timer.finish();
+    // The recorded frames are the measured ones, in order.
+    for (size_t k = 0; k < result.sequence.size() && k < timer.frames().size(); ++k)
+      result.sequence[k].passMs = timer.frames()[k];
     for (const auto& name : timer.passOrder()) {
       TimingStats s = summarise(timer.samples().at(name));
       if (name == PassTimer::kFrame) {
@@ -318,6 +323,8 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
       result.reason = "GL error: " + gl::lastDebugError();
     }
     result.nonFinitePixels = countNonFinite(result.inscatter) + countNonFinite(result.final);
+    // The earlier frames of a sequence too (its last frame is the one read back above).
+    for (size_t k = 0; k + 1 < result.sequence.size(); ++k) result.nonFinitePixels += countNonFinite(result.sequence[k].inscatter);
     if (result.status == RunStatus::Success && result.nonFinitePixels > 0) {
       result.status = RunStatus::Failure;
       result.reason = std::to_string(result.nonFinitePixels) + " non-finite pixel values";

@@ -28,6 +28,9 @@ struct RunOptions {
   // true: after the timed frames, one untimed frame with the method's work counters
   // (Method::beginWorkCount), added to MethodRun::stats. vshadow run, shootout and sweep set it.
   bool workCounters = false;
+  // true: L_s is read back after every measured frame (outside its timing), for errors over a
+  // moving scene's sequence (MethodRun::sequence).
+  bool sequence = false;
 };
 
 enum class RunStatus { Success, Unsupported, Failure };
@@ -45,6 +48,15 @@ struct MethodRun {
   TimingStats frame;
   std::map<std::string, double> stats;
   Image inscatter, final;
+  // With RunOptions::sequence: every measured frame, in order, with its time in the scene's
+  // animation, its frame and pass times and its L_s.
+  struct SequenceFrame {
+    uint32_t index = 0;
+    double timeS = 0;
+    std::map<std::string, double> passMs;  // the passes that ran, and "Frame"
+    Image inscatter;
+  };
+  std::vector<SequenceFrame> sequence;
   size_t nonFinitePixels = 0;
   // Median ms of a pass, 0 when it did not run.
   double passMs(const std::string& pass) const {

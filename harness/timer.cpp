@@ -87,7 +87,12 @@ void PassTimer::addToFrame(const std::string& name, double ms) {
 }
 
 void PassTimer::flushFrame() {
-  for (const auto& [pass, total] : frameTotals_) record(pass, total);
+  std::map<std::string, double> frame;
+  for (const auto& [pass, total] : frameTotals_) {
+    record(pass, total);
+    frame[pass] = total;
+  }
+  frames_.push_back(std::move(frame));
   frameTotals_.clear();
 }
 
@@ -114,8 +119,8 @@ void PassTimer::endFrame() {
   if (strategy_ == TimerStrategy::WallClock) {
     glFinish();
     if (recording_) {
+      addToFrame(kFrame, msSince(frameStart_));
       flushFrame();
-      record(kFrame, msSince(frameStart_));
     }
     return;
   }

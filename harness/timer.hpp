@@ -68,6 +68,8 @@ class PassTimer {
   // Samples per pass name (ms), one per frame, in first-seen order; "Frame" holds whole frames.
   const std::vector<std::string>& passOrder() const { return order_; }
   const std::map<std::string, std::vector<double>>& samples() const { return samples_; }
+  // Per recorded frame, in order: each pass's ms in that frame (the passes that ran) and "Frame".
+  const std::vector<std::map<std::string, double>>& frames() const { return frames_; }
   TimerStrategy strategy() const { return strategy_; }
   static constexpr const char* kFrame = "Frame";
 
@@ -95,6 +97,7 @@ class PassTimer {
   std::vector<std::string> open_;
   std::vector<std::string> order_;
   std::map<std::string, std::vector<double>> samples_;
+  std::vector<std::map<std::string, double>> frames_;
   std::vector<std::pair<std::string, double>> frameTotals_;  // the frame being recorded or resolved
   std::vector<GLuint> freeQueries_, allQueries_;
   PendingFrame current_;

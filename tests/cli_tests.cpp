@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -158,8 +159,32 @@ TEST(CliTest, MovingSceneRecordsItsComparedFrameAndRefitsInTheFrame) {
       EXPECT_FALSE(refits) << passes;
     }
     EXPECT_FALSE(field(runs, row, "frame_p95_ms").empty());
+    // Errors over the sequence: both measured frames, each against the reference of its time.
+    EXPECT_EQ(field(runs, row, "seq_frames"), "2");
+    const double temporal = std::stod(field(runs, row, "temporal_ls_rmse"));
+    EXPECT_TRUE(std::isfinite(temporal) && temporal >= 0.0) << temporal;
+    EXPECT_GE(std::stod(field(runs, row, "seq_ls_rmse_max")), std::stod(field(runs, row, "seq_ls_rmse_mean")));
   }
   EXPECT_EQ(slicemapRows, 1);
+  CsvTable frames = loadCsv(dir + "/out/frames.csv", framesColumns(), kFramesKeyColumns);
+  ASSERT_EQ(frames.rows().size(), 2 * runs.rows().size());
+  for (const auto& f : frames.rows()) {
+    const std::string frame = field(frames, f, "frame");
+    ASSERT_TRUE(frame == "2" || frame == "3") << frame;
+    EXPECT_NEAR(std::stod(field(frames, f, "time_s")), std::stod(frame) / 12.0, 1e-6);
+    EXPECT_GT(std::stod(field(frames, f, "frame_ms")), 0.0);
+    EXPECT_NE(field(frames, f, "pass_ms").find("G Buffer="), std::string::npos);
+    // The last frame is the compared one: its error is the row's.
+    if (frame == "3")
+      for (const auto& row : runs.rows())
+        if (field(runs, row, "method") == field(frames, f, "method") && field(runs, row, "params") == field(frames, f, "params"))
+          EXPECT_EQ(field(frames, f, "ls_rmse"), field(runs, row, "ls_rmse"));
+  }
+  // Error and frame time over time, as a picture.
+  std::string cmd = std::string(VS_SOURCE_DIR) + "/scripts/plot-sequence " + dir + "/out -o " + dir +
+                    "/sequence.png > " + dir + "/plot.log 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/plot.log");
+  EXPECT_GT(fs::file_size(dir + "/sequence.png"), 1000u);
 }
 
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {

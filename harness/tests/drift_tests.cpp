@@ -67,6 +67,7 @@ TEST(DriftTest, ARoundDuringWhichTheMachineSlowedIsDetectedAndRepeated) {
   EXPECT_EQ(guard.disturbedRounds(), 2);
   EXPECT_EQ(guard.retries(), 2);
   EXPECT_TRUE(guard.takeFirstWarning());
+  EXPECT_NEAR(guard.firstDisturbancePct(), 50.0, 1e-9);  // the move that set it off
   EXPECT_FALSE(guard.takeFirstWarning());  // the console warns once
 }
 

@@ -193,6 +193,40 @@ TEST(Metrics, SizeMismatchThrows) {
   EXPECT_THROW(vs::falseColourError(a, b, 1.0f), std::invalid_argument);
 }
 
+TEST(Metrics, TemporalErrorSeesFlickerAndLagButNotABias) {
+  // The reference brightens by 0.1 a frame.
+  std::vector<Image> reference = {constantImage(8, 6, 0.5f, 0.5f, 0.5f), constantImage(8, 6, 0.6f, 0.6f, 0.6f),
+                                  constantImage(8, 6, 0.7f, 0.7f, 0.7f)};
+  auto pointers = [](const std::vector<Image>& images) {
+    std::vector<const Image*> out;
+    for (const Image& i : images) out.push_back(&i);
+    return out;
+  };
+  // A constant bias follows every change: a per-frame error, no temporal one.
+  std::vector<Image> biased = {constantImage(8, 6, 0.55f, 0.55f, 0.55f), constantImage(8, 6, 0.65f, 0.65f, 0.65f),
+                               constantImage(8, 6, 0.75f, 0.75f, 0.75f)};
+  vs::TemporalError none = vs::temporalError(pointers(biased), pointers(reference));
+  EXPECT_NEAR(none.rmse, 0.0, 1e-6);
+  EXPECT_EQ(none.pairs, 2);
+  // Lag: a sequence that stays at the first frame misses each change of 0.1.
+  std::vector<Image> lagging(3, constantImage(8, 6, 0.5f, 0.5f, 0.5f));
+  vs::TemporalError lag = vs::temporalError(pointers(lagging), pointers(reference));
+  EXPECT_NEAR(lag.rmse, 0.1, 1e-6);
+  // relative: over the RMS of the reference's frames 1 and 2, sqrt((0.36 + 0.49) / 2).
+  EXPECT_NEAR(lag.relative, 0.1 / std::sqrt((0.36 + 0.49) / 2.0), 1e-6);
+  // Flicker: +-0.05 around the reference, alternating: changes of 0.1 the reference does not have.
+  std::vector<Image> flicker = {constantImage(8, 6, 0.55f, 0.55f, 0.55f), constantImage(8, 6, 0.55f, 0.55f, 0.55f),
+                                constantImage(8, 6, 0.75f, 0.75f, 0.75f)};
+  EXPECT_NEAR(vs::temporalError(pointers(flicker), pointers(reference)).rmse, 0.1, 1e-6);
+  // One frame has no pair; sizes must agree; non-finite frames never look good.
+  EXPECT_EQ(vs::temporalError({&reference[0]}, {&reference[0]}).pairs, 0);
+  Image small = constantImage(4, 3, 0.5f, 0.5f, 0.5f);
+  EXPECT_THROW(vs::temporalError({&reference[0], &small}, {&reference[0], &reference[1]}), std::invalid_argument);
+  Image broken = constantImage(8, 6, 0.5f, 0.5f, 0.5f);
+  broken.at(2, 2)[0] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_TRUE(std::isinf(vs::temporalError({&reference[0], &broken}, {&reference[0], &reference[1]}).rmse));
+}
+
 TEST(Metrics, FalseColourRampEndsAndNonFinite) {
   const Image reference = constantImage(3, 1, 0.0f, 0.0f, 0.0f);
   Image test = reference;
