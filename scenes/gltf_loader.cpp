@@ -4,6 +4,8 @@
 #include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
 #include <glm/gtc/quaternion.hpp>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -17,10 +19,28 @@ namespace vs {
 
 namespace {
 
-// tinygltf does not decode images: the loader decodes only the base-colour textures of BLEND and
-// MASK materials, with OpenImageIO, for their alpha channel.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+// tinygltf does not decode images: it hands over each image's encoded bytes, whatever their form
+// (a file, a data: URI or a buffer view, as in every .glb), and they are kept by image index. The
+// loader decodes only the base-colour textures of BLEND and MASK materials, with OpenImageIO from
+// memory, for their alpha channel; the other images are never decoded.
+using ImageBytes = std::map<int, std::vector<unsigned char>>;
+bool keepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
+                    int size, void* kept) {
+  if (bytes && size > 0) (*static_cast<ImageBytes*>(kept))[index].assign(bytes, bytes + size);
   return true;
+}
+
+// The OpenImageIO format of encoded image bytes: by their signature, else by the MIME type or the
+// file name; "" when neither says PNG or JPEG.
+std::string imageFormat(const std::vector<unsigned char>& bytes, const std::string& mimeType, const std::string& uri) {
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+  if (bytes.size() >= 8 && std::equal(png, png + 8, bytes.begin())) return "png";
+  if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) return "jpeg";
+  std::string ext = std::filesystem::path(uri).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (mimeType == "image/png" || ext == ".png") return "png";
+  if (mimeType == "image/jpeg" || ext == ".jpg" || ext == ".jpeg") return "jpeg";
+  return "";
 }
 
 bool allFinite(const std::vector<double>& values) {
@@ -37,7 +57,8 @@ struct AccessorView {
 
 class GltfReader {
  public:
-  GltfReader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
+  GltfReader(const std::string& path, const tinygltf::Model& model, ImageBytes images)
+      : path_(path), model_(model), imageBytes_(std::move(images)) {}
 
   [[noreturn]] void fail(const std::string& problem) const { throwSceneError(path_, "", problem); }
 
@@ -228,31 +249,25 @@ class GltfReader {
       fail(what + ": image index " + std::to_string(imageIndex) + " out of range");
     const tinygltf::Image& image = model_.images[size_t(imageIndex)];
     std::string where = what + ": image " + std::to_string(imageIndex);
-    std::unique_ptr<OIIO::ImageInput> input;
-    std::vector<unsigned char> bytes;
-    if (image.bufferView >= 0) {
-      if (size_t(image.bufferView) >= model_.bufferViews.size()) fail(where + ": bufferView out of range");
-      const tinygltf::BufferView& view = model_.bufferViews[size_t(image.bufferView)];
-      if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size()) fail(where + ": buffer out of range");
-      const std::vector<unsigned char>& buffer = model_.buffers[size_t(view.buffer)].data;
-      if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
-        fail(where + ": buffer view exceeds its buffer");
-      bytes.assign(buffer.begin() + long(view.byteOffset), buffer.begin() + long(view.byteOffset + view.byteLength));
-      OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
-      std::string format = image.mimeType == "image/jpeg" ? "a.jpg" : "a.png";
-      OIIO::ImageSpec config;
-      input = OIIO::ImageInput::open(format, &config, &reader);
-      if (!input) fail(where + ": cannot decode (" + oneLine(OIIO::geterror()) + ")");
-      return decodeAlpha(*input, imageIndex, where);
-    }
-    if (image.uri.empty() || image.uri.rfind("data:", 0) == 0)
-      fail(where + ": embedded data-URI images are not supported (use a file or a buffer view)");
-    std::string path = (std::filesystem::path(path_).parent_path() / image.uri).string();
-    std::string contents, error;
-    if (!readFile(path, contents, error)) fail(where + ": cannot open '" + path + "': " + error);
-    imageFiles_.push_back(contents);
-    input = OIIO::ImageInput::open(path);
-    if (!input) fail(where + ": cannot decode '" + path + "' (" + oneLine(OIIO::geterror()) + ")");
+    const bool file = !image.uri.empty();  // tinygltf keeps the uri of file images only
+    if (file) where += " ('" + image.uri + "')";
+    auto found = imageBytes_.find(imageIndex);
+    if (found == imageBytes_.end())
+      fail(where + (file ? ": cannot open '" + (std::filesystem::path(path_).parent_path() / image.uri).string() + "'"
+                         : ": no image data"));
+    const std::vector<unsigned char>& bytes = found->second;
+    if (file) imageFiles_.emplace_back(bytes.begin(), bytes.end());
+    const std::string format = imageFormat(bytes, image.mimeType, image.uri);
+    if (format.empty()) fail(where + ": not a PNG or JPEG image");
+    // One path for every form: decoded from memory through an IOProxy, which OpenImageIO 2.x takes
+    // as the "oiio:ioproxy" open hint.
+    OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
+    std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::create(format, false, nullptr, &reader);
+    OIIO::ImageSpec spec, config;
+    void* proxy = &reader;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    if (!input || !input->open("memory." + format, spec, config))
+      fail(where + ": cannot decode (" + oneLine(input ? input->geterror() : OIIO::geterror()) + ")");
     return decodeAlpha(*input, imageIndex, where);
   }
 
@@ -433,6 +448,7 @@ class GltfReader {
   std::vector<bool> onPath_;
   GltfContent content_;
   std::map<int, int> decoded_;            // image index -> alpha texture index (-1: no alpha)
+  ImageBytes imageBytes_;                 // image index -> encoded bytes (filled by tinygltf)
   std::vector<std::string> imageFiles_;   // external image files read (for the content hash)
 };
 
@@ -448,7 +464,8 @@ GltfContent loadGltf(const std::string& path, const glm::mat4& transform, Conten
   if (hasher) hasher->addBlock(bytes);
 
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(skipImage, nullptr);
+  ImageBytes images;
+  loader.SetImageLoader(keepImageBytes, &images);
   tinygltf::Model model;
   std::string loadError, warning;
   std::string baseDir = std::filesystem::path(path).parent_path().string();
@@ -470,7 +487,7 @@ GltfContent loadGltf(const std::string& path, const glm::mat4& transform, Conten
     for (const tinygltf::Buffer& buffer : model.buffers)
       if (!buffer.uri.empty() && !isDataUri(buffer.uri)) hasher->addBlock(buffer.data.data(), buffer.data.size());
   }
-  GltfReader reader(path, model);
+  GltfReader reader(path, model, std::move(images));
   GltfContent content = reader.read(transform);
   if (hasher)
     for (const std::string& image : reader.imageFiles()) hasher->addBlock(image);
