@@ -365,6 +365,7 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   RunPlan plan;
   parseSize(req.size, plan.width, plan.height);
   plan.scene = loadScene(req.scene);
+  for (const std::string& warning : plan.scene.warnings) std::fprintf(stderr, "vshadow: warning: %s\n", warning.c_str());
   plan.effects = deriveEffects(plan.scene);
   // A moving scene is compared at the time of the last frame, the one whose images are read back.
   plan.comparedFrame = uint32_t(req.warmup + req.frames - 1);
@@ -503,6 +504,7 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
         {"psnr_peak", kPsnrPeak},
         {"ssim", "Wang et al. 2004 on Rec.709 luminance, 11x11 Gaussian sigma 1.5, K1 0.01, K2 0.03, L = psnr_peak"},
         {"unstable_mdape_pct", 5.0}}},
+      {"scene_warnings", plan.scene.warnings},  // what loading assumed (scenes/README.md)
       {"status", "running"},
       {"jobs", plan.jobs.size()},
   };

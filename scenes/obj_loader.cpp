@@ -29,14 +29,19 @@ bool isNumber(const std::string& t) {
   return end && *end == '\0' && std::isfinite(v);
 }
 
+// The statements that name materials, with their line numbers.
+struct MaterialStatements {
+  std::vector<std::pair<std::string, size_t>> mtllibs, usemtls;  // (name, line)
+};
+
 // Checks the statements tinyobjloader would read leniently, so that a broken file is an error with
-// its line number; returns the MTL file names in order.
-std::vector<std::string> validate(const std::string& path, const std::string& text) {
+// its line number; returns the material libraries and the materials used.
+MaterialStatements validate(const std::string& path, const std::string& text) {
   auto fail = [&](size_t line, const std::string& problem) {
     throwSceneError(path + ":" + std::to_string(line), "", problem);
   };
   long vertices = 0, normals = 0, texcoords = 0;
-  std::vector<std::string> mtllibs;
+  MaterialStatements statements;
   std::istringstream in(text);
   std::string line;
   for (size_t number = 1; std::getline(in, line); ++number) {
@@ -87,25 +92,34 @@ std::vector<std::string> validate(const std::string& path, const std::string& te
       }
     } else if (key == "mtllib") {
       if (t.size() < 2) fail(number, "'mtllib' needs a file name");
-      for (size_t i = 1; i < t.size(); ++i) mtllibs.push_back(t[i]);
+      for (size_t i = 1; i < t.size(); ++i) statements.mtllibs.emplace_back(t[i], number);
+    } else if (key == "usemtl" && t.size() >= 2) {
+      statements.usemtls.emplace_back(t[1], number);
     }
   }
-  return mtllibs;
+  return statements;
 }
 
 }  // namespace
 
-std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, ContentHasher* hasher) {
+std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, ContentHasher* hasher,
+                          std::vector<std::string>* warnings) {
   std::string text, error;
   if (!readFile(path, text, error)) throwSceneError(path, "", "cannot open OBJ file: " + error);
   if (hasher) hasher->addBlock(text);
-  std::vector<std::string> mtllibs = validate(path, text);
+  const MaterialStatements statements = validate(path, text);
+  auto warn = [&](size_t line, const std::string& problem) {
+    if (warnings) warnings->push_back(path + ":" + std::to_string(line) + ": " + problem);
+  };
   std::string mtlText;
   std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  for (const std::string& name : mtllibs) {
+  for (const auto& [name, line] : statements.mtllibs) {
     std::string mtlPath = (dir / name).string(), contents;
-    if (!readFile(mtlPath, contents, error))
-      throwSceneError(path, "", "material library '" + mtlPath + "' (mtllib): " + error);
+    if (!readFile(mtlPath, contents, error)) {
+      warn(line, "material library '" + mtlPath + "' (mtllib) cannot be read (" + error +
+                     "): its materials are opaque with the default albedo");
+      continue;
+    }
     if (hasher) hasher->addBlock(contents);
     mtlText += contents + "\n";
   }
@@ -120,6 +134,14 @@ std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, C
   // a vertical tab, say): every index is checked again against what tinyobjloader read.
   const size_t vertexCount = attrib.vertices.size() / 3, normalCount = attrib.normals.size() / 3;
   const std::vector<tinyobj::material_t>& materials = reader.GetMaterials();
+  // Materials used but defined nowhere: the default albedo, opaque; said once per name.
+  std::map<std::string, bool> known;
+  for (const tinyobj::material_t& m : materials) known[m.name] = true;
+  for (const auto& [name, line] : statements.usemtls)
+    if (!known.count(name)) {
+      known[name] = true;
+      warn(line, "material '" + name + "' (usemtl) is in no material library: opaque, default albedo");
+    }
   std::vector<Mesh> meshes;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     // One mesh per material used by the shape; vertices shared by (position, normal) pairs.

@@ -143,6 +143,9 @@ struct Scene {
   std::string contentHash; // hash of the scene's defining text and referenced files (cache keys)
   size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
   Animation animation;          // keyframed camera and light; still unless animation.moves()
+  // What loading assumed where the input was incomplete (an OBJ's missing material library, say),
+  // one line each naming the file and line: printed by the commands, recorded in meta.json.
+  std::vector<std::string> warnings;
 
   size_t triangleCount() const;
   // Axis-aligned bounds of all geometry and volume boxes; a unit box around the origin when empty.

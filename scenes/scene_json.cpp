@@ -259,6 +259,7 @@ struct GeometryResult {
   bool usedGenerator = false;
   bool hasGltfLight = false;
   Light gltfLight;
+  std::vector<std::string> warnings;
 };
 
 void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher, GeometryResult& out) {
@@ -318,7 +319,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     glm::mat4 where = readFilePlacement(entry, "Kd, d or Tr");
     std::vector<Mesh> meshes;
     try {
-      meshes = loadObj(resolvePath(baseDir, file), where, &hasher);
+      meshes = loadObj(resolvePath(baseDir, file), where, &hasher, &out.warnings);
     } catch (const SceneError& e) {
       entry.fail("obj", e.what());
     }
@@ -500,6 +501,7 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
   }
 
   scene.alphaTextures = std::move(result.alphaTextures);
+  scene.warnings = std::move(result.warnings);
   for (Mesh& mesh : result.meshes) {
     scene.droppedTriangles += sanitizeMesh(mesh);
     if (mesh.triangleCount() > 0) scene.meshes.push_back(std::move(mesh));

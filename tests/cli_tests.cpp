@@ -132,6 +132,23 @@ TEST(CliTest, ShootoutRunsPointLightMethodsPerVplOnAnAreaLight) {
   EXPECT_EQ(status["slicemap"], "Unsupported");  // its setup fits one light position
 }
 
+// An OBJ downloaded without its MTL: the run goes on, says so once per problem on stderr and keeps
+// the warnings in meta.json.
+TEST(CliTest, SceneWarningsArePrintedAndRecorded) {
+  std::string dir = makeTempDir("scene-warnings");
+  writeFile(dir + "/nave.obj", "mtllib untitled.mtl\nv -2 1 -2\nv 2 1 -2\nv 2 1 2\nv -2 1 2\nusemtl stone\nf 1 2 3 4\n");
+  writeFile(dir + "/scene.json", R"({"geometry": [{"obj": "nave.obj"}], "camera": {"position": [0, 0.5, 6], "target": [0, 1, 0]},
+    "light": {"type": "point", "position": [0, 3, 0], "intensity": 50}, "medium": {"sigma_s": 0.05, "sigma_a": 0.01}})");
+  CommandResult r = runVshadow({"run", "--scene", dir + "/scene.json", "--method", "raymarch:steps=4", "--size", "16x12",
+                                "--frames", "1", "--warmup", "0", "--no-reference", "--no-images", "--out", dir + "/out"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + dir + "/nave.obj:1: material library"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nave.obj:6: material 'stone'"), std::string::npos) << r.err;
+  auto meta = nlohmann::json::parse(readFile(dir + "/out/meta.json"));
+  ASSERT_EQ(meta["scene_warnings"].size(), 2u);
+  EXPECT_NE(meta["scene_warnings"][0].get<std::string>().find("untitled.mtl"), std::string::npos);
+}
+
 // A moving scene through the binary: the compared frame's time is recorded, the reference is the
 // scene at that time, and the light-fitted methods pay for their refits in the frame.
 TEST(CliTest, MovingSceneRecordsItsComparedFrameAndRefitsInTheFrame) {
