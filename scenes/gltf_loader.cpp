@@ -24,9 +24,26 @@ namespace {
 // loader decodes only the base-colour textures of BLEND and MASK materials, with OpenImageIO from
 // memory, for their alpha channel; the other images are never decoded.
 using ImageBytes = std::map<int, std::vector<unsigned char>>;
-bool keepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
-                    int size, void* kept) {
-  if (bytes && size > 0) (*static_cast<ImageBytes*>(kept))[index].assign(bytes, bytes + size);
+struct ImageSink {
+  ImageBytes kept;
+  const tinygltf::Model* model;  // being loaded: its buffers and buffer views are read already
+};
+bool keepImageBytes(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                    const unsigned char* bytes, int size, void* user) {
+  auto* sink = static_cast<ImageSink*>(user);
+  if (!bytes || size <= 0) return true;
+  // tinygltf hands over a buffer view's bytes without checking that the view lies inside its
+  // buffer: such an image is left out (an error if a material needs it), never read past its end.
+  if (image && image->bufferView >= 0) {
+    const tinygltf::Model& m = *sink->model;
+    if (size_t(image->bufferView) >= m.bufferViews.size()) return true;
+    const tinygltf::BufferView& view = m.bufferViews[size_t(image->bufferView)];
+    if (view.buffer < 0 || size_t(view.buffer) >= m.buffers.size()) return true;
+    const size_t length = m.buffers[size_t(view.buffer)].data.size();
+    if (view.byteOffset > length || view.byteLength > length - view.byteOffset || size_t(size) > view.byteLength)
+      return true;
+  }
+  sink->kept[index].assign(bytes, bytes + size);
   return true;
 }
 
@@ -464,9 +481,9 @@ GltfContent loadGltf(const std::string& path, const glm::mat4& transform, Conten
   if (hasher) hasher->addBlock(bytes);
 
   tinygltf::TinyGLTF loader;
-  ImageBytes images;
-  loader.SetImageLoader(keepImageBytes, &images);
   tinygltf::Model model;
+  ImageSink images{{}, &model};
+  loader.SetImageLoader(keepImageBytes, &images);
   std::string loadError, warning;
   std::string baseDir = std::filesystem::path(path).parent_path().string();
   bool isBinary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
@@ -487,7 +504,7 @@ GltfContent loadGltf(const std::string& path, const glm::mat4& transform, Conten
     for (const tinygltf::Buffer& buffer : model.buffers)
       if (!buffer.uri.empty() && !isDataUri(buffer.uri)) hasher->addBlock(buffer.data.data(), buffer.data.size());
   }
-  GltfReader reader(path, model, std::move(images));
+  GltfReader reader(path, model, std::move(images.kept));
   GltfContent content = reader.read(transform);
   if (hasher)
     for (const std::string& image : reader.imageFiles()) hasher->addBlock(image);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 #include "scenes/builtin_scenes.hpp"
@@ -945,6 +946,22 @@ TEST(Gltf, EmbeddedImagesDecodeLikeImageFiles) {
   for (size_t i = png + 16; i < bytes.size(); ++i) bytes[i] = 'x';  // past the signature and IHDR length
   dir.write("broken.glb", bytes);
   expectErrorMentions(loadError(dir, sceneText(R"({"gltf": "broken.glb"})")), {"image 0", "cannot decode"});
+  // An image's buffer view that runs past the end of its buffer: an error, never a read past it.
+  {
+    std::string glbPath = vs::testing::writeAlphaQuadGltf(dir.file(""), "long", "BLEND", 0.0, 2, 2, alpha, 2.0, 1.0, "glb");
+    std::ifstream in(glbPath, std::ios::binary);
+    std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, file.data() + 12, 4);
+    nlohmann::json doc = nlohmann::json::parse(file.substr(20, jsonLength));
+    std::vector<unsigned char> bin(file.begin() + 20 + jsonLength + 8, file.end());
+    doc["bufferViews"][3]["byteLength"] = 1 << 20;
+    std::vector<unsigned char> glb = makeGlb(doc.dump(), bin);
+    dir.write("long.glb", std::string(glb.begin(), glb.end()));
+    std::string message = loadError(dir, sceneText(R"({"gltf": "long.glb"})"));
+    EXPECT_FALSE(message.empty());
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
   // An image in no format the loader reads.
   std::string notImage = vs::testing::writeAlphaQuadGltf(dir.file(""), "odd", "BLEND", 0.0, 2, 2, alpha, 2.0, 1.0);
   dir.write("odd.png", "GIF89a, not a png");
