@@ -1,7 +1,10 @@
 #include "benchmark_kit.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 
 #include "app.hpp"
 #include "thread_pinning.hpp"
@@ -18,7 +21,42 @@ std::string fixed(double v, int digits) {
 }
 }  // namespace
 
-BenchmarkSession::BenchmarkSession(DriftPolicy policy) : context_(false) {
+std::string parseBenchmarkOptions(int& argc, char** argv, BenchmarkOptions& options) {
+  int kept = 1;
+  std::string error;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--seed") != 0) {
+      argv[kept++] = argv[i];
+      continue;
+    }
+    const char* value = i + 1 < argc ? argv[++i] : "";
+    char* end = nullptr;
+    errno = 0;
+    unsigned long long seed = std::strtoull(value, &end, 10);
+    if (*value == '\0' || *value == '-' || *end != '\0' || errno != 0 || seed > 0xffffffffull) {
+      if (error.empty()) error = std::string("--seed wants an integer in [0, 4294967295], got '") + value + "'";
+      continue;
+    }
+    options.seed = uint32_t(seed);
+  }
+  argc = kept;
+  argv[argc] = nullptr;
+  return error;
+}
+
+BenchmarkOptions takeBenchmarkOptions(int& argc, char** argv) {
+  BenchmarkOptions options;
+  const std::string program = argc > 0 ? argv[0] : "benchmark";
+  std::string error = parseBenchmarkOptions(argc, argv, options);
+  if (!error.empty()) {
+    std::fprintf(stderr, "%s: %s\n", program.c_str(), error.c_str());
+    std::exit(2);
+  }
+  return options;
+}
+
+BenchmarkSession::BenchmarkSession(BenchmarkOptions options, DriftPolicy policy)
+    : options_(options), context_(false) {
   // Passes are timed by glFinish and the wall clock: the driver's workers, one per CPU.
   pinning_ = describe(pinDriverThreads("on", true));
   gl::installDebugOutput(false);
@@ -36,7 +74,8 @@ BenchmarkSession* BenchmarkSession::current() { return gCurrent; }
 
 std::string BenchmarkSession::preamble(const std::string& bullet) const {
   const DriftPolicy& p = guard_->policy();
-  return bullet + "provenance: " + provenanceLine(info()) + "\n" + bullet + "threads: " + pinning_ + "\n" + bullet +
+  return bullet + "provenance: " + provenanceLine(info()) + "\n" + bullet + "seed: " + std::to_string(seed()) +
+         " (the jitter of every run)\n" + bullet + "threads: " + pinning_ + "\n" + bullet +
          "drift: a calibration workload (" + std::to_string(probe_->drawIterations()) + "/" +
          std::to_string(probe_->computeIterations()) +
          " iterations of a 256x256 fragment pass/compute dispatch) timed before and after every timed run; a run "

@@ -58,6 +58,7 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   options.warmup = frames > 0 ? 1 : 0;
   options.minTimeMs = kBenchmarkMinTimeMs;
   options.timer = TimerStrategy::WallClock;
+  if (const BenchmarkSession* session = BenchmarkSession::current()) options.seed = session->seed();
   Runner runner(scene, limits, options);
   return frames > 0 ? timedRunSpec(runner, limits, spec) : runSpec(runner, limits, spec);
 }

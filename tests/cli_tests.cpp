@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -301,6 +302,43 @@ TEST(CliTest, ShaderAbRunsTheBuiltInShadersAndTheFolders) {
   cmd = env + script + " " + dir + "/broken room vsv:alpha=64:theta=128:phi=128 > " + dir + "/broken.txt 2>&1";
   EXPECT_NE(std::system(cmd.c_str()), 0);
   EXPECT_NE(readFile(dir + "/broken.txt").find("inscatter.frag"), std::string::npos) << readFile(dir + "/broken.txt");
+}
+
+// scripts/merge-processes: one benchmark's output from two processes becomes one document with the
+// median, the rounds' and the processes' ranges, and a flag where the processes disagree.
+TEST(CliTest, MergeProcessesGivesMediansRangesAndFlagsDisagreement) {
+  std::string dir = makeTempDir("merge-processes");
+  auto doc = [](const std::string& seed, const std::string& agreeing, const std::string& disagreeing,
+                const std::string& extra) {
+    return "# bench: measured\n\n- seed: " + seed + "\n\n## Equal\n\n| scene | steps | ms | speedup |\n"
+           "|---|---|---|---|\n| a | steps=64 | " + agreeing + " | **2.00x** [1.90–2.10] |\n| b | steps=" + seed +
+           " | 10.0 | " + disagreeing + " |\n" + extra + "\nVerdict: holds.\n";
+  };
+  writeFile(dir + "/1.md", doc("1", "93.8 [93.4–96.2]", "**3.25x** [3.17–3.25]", ""));
+  writeFile(dir + "/2.md", doc("2", "95.0 [94.0–97.0]", "**4.25x** [4.20–4.30]", "| c | steps=8 | 1.0 | 1.00x |\n"));
+  const std::string script = std::string(VS_SOURCE_DIR) + "/scripts/merge-processes";
+  std::string cmd = script + " " + dir + "/1.md " + dir + "/2.md > " + dir + "/out.md 2> " + dir + "/err.txt";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/err.txt");
+  std::string out = readFile(dir + "/out.md");
+  // Agreeing processes: the median, the rounds' range over both, the processes' range; no flag.
+  EXPECT_NE(out.find("| a | steps=64 | 94.4 [93.4–97.0] {93.8–95.0} | **2.00x** [1.90–2.10] |"), std::string::npos)
+      << out;
+  // Rounds that do not overlap even widened by 5 %: flagged in the cell, under the table and on stderr.
+  EXPECT_NE(out.find("| b | steps=1 / steps=2 | 10.0 | **3.75x** [3.17–4.30] {3.25–4.25} ⚑ |"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("⚑ 1 of 2 figures in this table"), std::string::npos) << out;
+  EXPECT_NE(readFile(dir + "/err.txt").find("1 figure(s) flagged"), std::string::npos);
+  // Prose that differs is given per process; a row only one process printed stays in its table.
+  EXPECT_NE(out.find("- process 1: seed: 1\n- process 2: seed: 2"), std::string::npos) << out;
+  EXPECT_NE(out.find("| c | steps=8 | 1.0 | 1.00x |\n\n⚑"), std::string::npos) << out;
+  EXPECT_NE(out.find("Merged from 2 processes"), std::string::npos) << out;
+  EXPECT_EQ(out.find("Verdict: holds."), out.rfind("Verdict: holds."));
+  // A missing input: one line, non-zero exit.
+  cmd = script + " " + dir + "/1.md " + dir + "/missing.md > " + dir + "/out2.md 2> " + dir + "/err2.txt";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  std::string err = readFile(dir + "/err2.txt");
+  EXPECT_NE(err.find("cannot read"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
 TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {

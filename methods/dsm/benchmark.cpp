@@ -125,20 +125,22 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
 }  // namespace
 
 int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
   bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   bool colouredOnly = argc > 1 && std::strcmp(argv[1], "--coloured") == 0;
   if (argc > 2 || (argc > 1 && !quick && !colouredOnly)) {
-    std::fprintf(stderr, "usage: dsm_benchmark [--quick | --coloured]\n");
+    std::fprintf(stderr, "usage: dsm_benchmark [--seed N] [--quick | --coloured]\n");
     return 2;
   }
   int w = quick ? 96 : 384, h = quick ? 72 : 288;
   int sw = quick ? 64 : 192, sh = quick ? 48 : 144;
   int frames = quick ? 1 : 3, rounds = quick ? 1 : 3;
-  BenchmarkSession session;
+  BenchmarkSession session(common);
   const gl::Limits& limits = session.limits();
   if (colouredOnly) {
     std::printf("# dsm: coloured shadows, measured\n\n");
-    std::printf("Regenerate: `build/methods/dsm/dsm_benchmark --coloured > results/dsm/coloured.md` (under a minute on 2 cores).\n\n");
+    std::printf("Regenerate: `scripts/reproduce dsm` (two processes of `dsm_benchmark --coloured` with "
+                "different seeds, merged; under a minute each on 2 cores).\n\n");
     std::printf("%s", session.preamble("- ").c_str());
     std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
     std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light)\n");
@@ -147,7 +149,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::printf("# dsm: deep shadow maps, measured\n\n");
-  std::printf("Regenerate: `build/methods/dsm/dsm_benchmark > results/dsm/README.md` (about 8 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `scripts/reproduce dsm` (two processes of `dsm_benchmark` with different seeds, merged; about "
+              "8 minutes each on 2 cores).\n\n");
   std::printf("%s", session.preamble("- ").c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
@@ -182,6 +185,7 @@ int main(int argc, char** argv) {
     once.height = h;
     once.frames = 1;
     once.warmup = 0;
+    once.seed = session.seed();
     Runner gridRunner(scene, limits, once);
     std::vector<Measured> rungs;
     double lowest = 1e30;

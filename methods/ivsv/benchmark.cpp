@@ -66,6 +66,7 @@ Columns columns(const MethodRun& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
   bool quick = false;
   std::string imageDir;
   for (int i = 1; i < argc; ++i) {
@@ -74,21 +75,21 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--images") == 0 && i + 1 < argc) {
       imageDir = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: ivsv_benchmark [--quick] [--images DIR]\n");
+      std::fprintf(stderr, "usage: ivsv_benchmark [--seed N] [--quick] [--images DIR]\n");
       return 2;
     }
   }
   const int w = quick ? 48 : 96, h = quick ? 36 : 72, frames = quick ? 1 : 2;
   const int tableVpls = quick ? 16 : 256;
-  BenchmarkSession session;
+  BenchmarkSession session(common);
   const gl::Limits& limits = session.limits();
   Scene scene = loadScene("arealight");
   // The strongest reference this machine holds: 256 light samples off the VPLs' points.
   const std::string refSpec = quick ? "raymarch:steps=256:sampling=equiangular:light_samples=64:light_sm=256:light_shift=1"
                                     : "raymarch:steps=512:sampling=equiangular:light_samples=256:light_sm=256:light_shift=1";
   std::printf("# ivsv: imperfect voxelized shadow volumes, measured\n\n");
-  std::printf("Regenerate: `scripts/reproduce ivsv` (build/methods/ivsv/ivsv_benchmark --images results/ivsv > "
-              "results/ivsv/README.md, about 3 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `scripts/reproduce ivsv` (two processes of `ivsv_benchmark` with different seeds, merged; "
+              "about 3 minutes each on 2 cores).\n\n");
   std::printf("%s", session.preamble("- ").c_str());
   std::printf("- scene: `arealight` (a 3x1.5 rect light over pillars and a torus knot in fog), %dx%d\n", w, h);
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());

@@ -46,29 +46,32 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
 }  // namespace
 
 int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
   int w = 256, h = 192;
   std::string imageDir;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--images") == 0 && i + 1 < argc) {
       imageDir = argv[++i];
     } else if (std::sscanf(argv[i], "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192) {
-      std::fprintf(stderr, "usage: minmax_benchmark [WIDTHxHEIGHT] [--images DIR]\n");
+      std::fprintf(stderr, "usage: minmax_benchmark [--seed N] [WIDTHxHEIGHT] [--images DIR]\n");
       return 2;
     }
   }
-  BenchmarkSession session;
+  BenchmarkSession session(common);
   const gl::Limits& limits = session.limits();
-  std::printf("%s", session.preamble().c_str());
-  std::printf("image %dx%d, wall-clock pass timer (glFinish-bracketed), %s\n", w, h, benchmarkFramesNote(3).c_str());
-  std::printf("reference: raymarch steps=4096 at the same shadow map; scattering time = the method's own passes\n\n");
+  std::printf("# minmax: 1D min-max mipmaps, measured\n\n");
+  std::printf("Regenerate: `scripts/reproduce minmax` (two processes of `minmax_benchmark 256x192` with different seeds, merged).\n\n");
+  std::printf("%s", session.preamble("- ").c_str());
+  std::printf("- image %dx%d, wall-clock pass timer (glFinish-bracketed), %s\n", w, h, benchmarkFramesNote(3).c_str());
+  std::printf("- reference: raymarch steps=4096 at the same shadow map; scattering time = the method's own passes\n\n");
 
   const std::vector<std::string> scenes = {"room", "trees", "terrain"};
   const std::vector<int> steps = {8, 16, 32, 64, 128, 256, 512, 1024};
   std::map<std::string, Measured> minmaxRuns, references;
 
-  std::printf("== Equal quality (Table 1), sm=1024 ==\n");
-  std::printf("%-8s %12s %12s %14s %12s %12s %9s\n", "scene", "minmax_rmse", "minmax_ms", "raymarch_steps",
-              "rm_rmse", "raymarch_ms", "speedup");
+  std::printf("## Equal quality (Table 1), sm=1024\n\n");
+  std::printf("| scene | minmax RMSE | minmax ms | raymarch steps | raymarch RMSE | raymarch ms | speedup |\n"
+              "|---|---|---|---|---|---|---|\n");
   for (const auto& name : scenes) {
     Scene scene = loadScene(name);
     Measured ref = measure(scene, "raymarch:steps=4096:sm=1024", limits, w, h, 0, nullptr);
@@ -82,16 +85,16 @@ int main(int argc, char** argv) {
       matchSteps = n;
       if (match.rmse <= mm.rmse) break;
     }
-    std::printf("%-8s %12.4e %12.1f %14d %12.4e %12.1f %8.2fx\n", name.c_str(), mm.rmse, mm.scatterMs, matchSteps,
+    std::printf("| %s | %.4e | %.1f | %d | %.4e | %.1f | %.2fx |\n", name.c_str(), mm.rmse, mm.scatterMs, matchSteps,
                 match.rmse, match.scatterMs, mm.scatterMs > 0 ? match.scatterMs / mm.scatterMs : 0.0);
     std::fflush(stdout);
   }
 
   // Fig. 6: minmax at its defaults beside the ray march that takes the same scattering time (the
   // largest step count within minmax's time, by bisection; times of 3 frames after a warm-up).
-  std::printf("\n== Equal time (Fig. 6), sm=1024: raymarch with the most steps that fit in minmax's scattering time ==\n");
-  std::printf("%-8s %12s %12s %14s %14s %12s %12s %14s\n", "scene", "minmax_ms", "minmax_rmse", "minmax_relmse",
-              "raymarch_steps", "raymarch_ms", "rm_rmse", "rm_relmse");
+  std::printf("\n## Equal time (Fig. 6), sm=1024: raymarch with the most steps that fit in minmax's scattering time\n\n");
+  std::printf("| scene | minmax ms | minmax RMSE | minmax relMSE | raymarch steps | raymarch ms | raymarch RMSE | raymarch "
+              "relMSE |\n|---|---|---|---|---|---|---|---|\n");
   for (const auto& name : scenes) {
     const Measured& mm = minmaxRuns[name];
     const Measured& ref = references[name];
@@ -118,7 +121,7 @@ int main(int argc, char** argv) {
       else hi = mid;
     }
     const Measured& rm = at(lo);
-    std::printf("%-8s %12.1f %12.4e %14.4e %14d %12.1f %12.4e %14.4e\n", name.c_str(), mm.scatterMs, mm.rmse,
+    std::printf("| %s | %.1f | %.4e | %.4e | %d | %.1f | %.4e | %.4e |\n", name.c_str(), mm.scatterMs, mm.rmse,
                 mm.relmse, lo, rm.scatterMs, rm.rmse, rm.relmse);
     std::fflush(stdout);
     if (imageDir.empty() || rm.run.final.empty()) continue;
@@ -136,7 +139,7 @@ int main(int argc, char** argv) {
     writePng8(base + "-raymarch-error.png", w, h, falseColourError(rm.run.inscatter, ref.run.inscatter, scale));
   }
   if (!imageDir.empty())
-    std::printf("images: fig6-SCENE-{reference,minmax,raymarch}.png (final frames at the reference's exposure) and "
+    std::printf("\nImages: fig6-SCENE-{reference,minmax,raymarch}.png (final frames at the reference's exposure) and "
                 "fig6-SCENE-{minmax,raymarch}-error.png (|L_s - reference|, full scale 10 %% of the reference's 99th-percentile L_s)\n");
 
   // The tables below: every figure the median of kRounds rounds, the rows measured in turn in
@@ -144,15 +147,15 @@ int main(int argc, char** argv) {
   const int kRounds = 3;
   auto scatterOf = [](const MethodRun& r) { return r.scatterMs(); };
 
-  std::printf("\n== Shadow-map resolution: minmax scattering time (ms), median [min–max] of %d interleaved rounds ==\n",
+  std::printf("\n## Shadow-map resolution: minmax scattering time (ms), median [min–max] of %d interleaved rounds\n\n",
               kRounds);
-  std::printf("%-8s %20s %20s %20s\n", "scene", "1K", "2K", "4K");
+  std::printf("| scene | 1K | 2K | 4K |\n|---|---|---|---|\n");
   for (const auto& name : scenes) {
     Scene scene = loadScene(name);
     std::vector<std::string> specs = {"minmax:sm=1024", "minmax:sm=2048", "minmax:sm=4096"};
     auto ms = measureInterleaved(scene, specs, limits, w, h, 2, kRounds, scatterOf);
-    std::printf("%-8s", name.c_str());
-    for (const Spread& t : ms) std::printf(" %20s", spreadCell(t).c_str());
+    std::printf("| %s |", name.c_str());
+    for (const Spread& t : ms) std::printf(" %s |", spreadCell(t).c_str());
     std::printf("\n");
     std::fflush(stdout);
   }
@@ -174,27 +177,30 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < rows.size(); ++i) {
       MethodRun r = benchmarkSpec(rows[i].second, "minmax:sm=1024", limits, w, h, 3);
       if (r.status == RunStatus::Success) runs[i].push_back(std::move(r));
-      else std::printf("  %s: %s\n", rows[i].first.c_str(), r.reason.c_str());
+      else std::printf("\n> %s: %s\n", rows[i].first.c_str(), r.reason.c_str());
     }
 
-  std::printf("\n== Pass breakdown at sm=1024 (ms, layout of Table 1), median [min–max] of %d interleaved rounds ==\n",
+  std::printf("\n## Pass breakdown at sm=1024 (ms, layout of Table 1), median [min–max] of %d interleaved rounds\n\n",
               kRounds);
-  const std::vector<std::pair<std::string, std::string>> columns = {
-      {"Shadow Map", "ShadowMap"},      {"Shadow Map Rectification", "Rectify"}, {"Low-Rank Approximation", "LowRank"},
-      {"Light Texture Precomputation", "LightTex"}, {"Mipmap Construction", "Mipmap"}, {"Integration", "Integrate"},
-      {"Near Epipole", "NearEpi"}};
-  std::printf("%-9s", "scene");
-  for (const auto& c : columns) std::printf(" %18s", c.second.c_str());
-  std::printf(" %18s %18s\n", "Scatter", "Frame");
+  // Chen et al.'s Table 1 passes, named as there.
+  const std::vector<std::string> columns = {"Shadow Map",          "Shadow Map Rectification",
+                                            "Low-Rank Approximation", "Light Texture Precomputation",
+                                            "Mipmap Construction", "Integration",
+                                            "Near Epipole"};
+  std::printf("| scene |");
+  for (const auto& c : columns) std::printf(" %s |", c.c_str());
+  std::printf(" scattering | frame |\n|---|");
+  for (size_t i = 0; i < columns.size() + 2; ++i) std::printf("---|");
+  std::printf("\n");
   for (size_t i = 0; i < rows.size(); ++i) {
-    std::printf("%-9s", rows[i].first.c_str());
+    std::printf("| %s |", rows[i].first.c_str());
     for (const auto& c : columns) {
-      const std::string pass = c.first;
-      std::printf(" %18s", spreadCell(spreadOf(runs[i], [&pass](const MethodRun& r) { return r.passMs(pass); })).c_str());
+      const std::string pass = c;
+      std::printf(" %s |", spreadCell(spreadOf(runs[i], [&pass](const MethodRun& r) { return r.passMs(pass); })).c_str());
     }
-    std::printf(" %18s %18s\n", spreadCell(spreadOf(runs[i], scatterOf)).c_str(),
+    std::printf(" %s | %s |\n", spreadCell(spreadOf(runs[i], scatterOf)).c_str(),
                 spreadCell(spreadOf(runs[i], [](const MethodRun& r) { return r.frame.medianMs; })).c_str());
   }
-  std::printf("\n%s", session.driftSummary().c_str());
+  std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }

@@ -87,22 +87,24 @@ size_t triangles(const Scene& scene, bool opaque) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
   bool quick = false, equalOnly = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     else if (std::strcmp(argv[i], "--equal-quality") == 0) equalOnly = true;
     else {
-      std::fprintf(stderr, "usage: slicemap_benchmark [--quick] [--equal-quality]\n");
+      std::fprintf(stderr, "usage: slicemap_benchmark [--seed N] [--quick] [--equal-quality]\n");
       return 2;
     }
   }
   int w = quick ? 96 : 256, h = quick ? 72 : 192;
   int side = quick ? 128 : 512;
   int frames = quick ? 1 : 3;
-  BenchmarkSession session;
+  BenchmarkSession session(common);
   const gl::Limits& limits = session.limits();
   std::printf("# slicemap: slicemaps and transmittance shadow maps, measured\n\n");
-  std::printf("Regenerate: `scripts/reproduce slicemap` (runs `build/methods/slicemap/slicemap_benchmark`; about 4 minutes on 2 cores).\n\n");
+  std::printf("Regenerate: `scripts/reproduce slicemap` (two processes of `slicemap_benchmark` with different seeds, "
+              "merged; about 4 minutes each on 2 cores).\n\n");
   std::printf("%s", session.preamble("- ").c_str());
   std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
   std::printf("- scattering time: Near/Far Maps + Slicemap + Prefix Counts + Scattering (slicemap), Ray Marching (raymarch);\n"

@@ -19,21 +19,26 @@ using namespace vs;
 
 
 int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
   int width = 256, height = 192;
   if (argc > 2 || (argc > 1 && (std::sscanf(argv[1], "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
                                 width > 8192 || height > 8192))) {
-    std::fprintf(stderr, "usage: vsv_benchmark [WIDTHxHEIGHT]\n");
+    std::fprintf(stderr, "usage: vsv_benchmark [--seed N] [WIDTHxHEIGHT]\n");
     return 2;
   }
-  BenchmarkSession session;
+  BenchmarkSession session(common);
   const gl::Limits& limits = session.limits();
-  std::printf("%s%dx%d, %s\n", session.preamble().c_str(), width, height, benchmarkFramesNote(3).c_str());
+  std::printf("# vsv: voxelized shadow volumes, measured\n\n");
+  std::printf("Regenerate: `scripts/reproduce vsv` (two processes of `vsv_benchmark 160x120` with different seeds, "
+              "merged).\n\n");
+  std::printf("%s- %dx%d, %s\n", session.preamble("- ").c_str(), width, height, benchmarkFramesNote(3).c_str());
   RunOptions options;
   options.width = width;
   options.height = height;
   options.frames = 3;
   options.warmup = 1;
   options.minTimeMs = kBenchmarkMinTimeMs;
+  options.seed = session.seed();
 
   // Matched on L_s relMSE (harness/metrics.hpp): RMSE on `spheres` is dominated by the one pixel
   // next to the on-screen point light, relMSE weighs every pixel by its own brightness.
@@ -133,6 +138,6 @@ int main(int argc, char** argv) {
                 cell(geo, "Voxelize: Geometry").c_str(), cell(sm, "Scan VSV").c_str(), cell(sm, "Compute L_s").c_str(),
                 cell(fused, "Voxelize: From SM").c_str());
   }
-  std::printf("\n%s", session.driftSummary().c_str());
+  std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }
