@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
+#include <vector>
 
 namespace vs {
 
@@ -49,7 +51,7 @@ glm::mat4 cubeFaceViewProj(const glm::vec3& position, int face, float nearZ, flo
 
 bool isSharedPass(const std::string& pass) {
   return pass == "Shadow Map" || pass == "Transmittance Map" || pass == "G Buffer" || pass == "Direct Lighting" ||
-         pass == "Composite";
+         pass == "Composite" || pass == kGeometryUpdatePass;
 }
 
 // ---- volumes
@@ -99,20 +101,20 @@ void VolumesGpu::bind() const {
 
 // ---- scene upload
 
-SceneGpu::SceneGpu(const Scene& scene) {
-  constexpr int kFloats = 17;
+namespace {
+constexpr int kVertexFloats = 17;
+
+int alphaTextureOf(const Scene& scene, const Mesh& mesh) {
+  return mesh.alphaTexture >= 0 && size_t(mesh.alphaTexture) < scene.alphaTextures.size() ? mesh.alphaTexture : -1;
+}
+
+// Every uploaded mesh's vertices, interleaved as the vertex array reads them.
+std::vector<float> vertexRecords(const Scene& scene) {
   std::vector<float> vertexData;
-  std::vector<uint32_t> opaque;
-  struct Pending {
-    std::vector<uint32_t> indices;
-    int texture;
-  };
-  std::vector<Pending> translucent;
   for (const Mesh& mesh : scene.meshes) {
     if (mesh.opacity <= 0.0f) continue;  // cut out: neither seen nor casting shadows
-    uint32_t base = uint32_t(vertexData.size() / kFloats);
-    int texture = mesh.alphaTexture >= 0 && size_t(mesh.alphaTexture) < scene.alphaTextures.size() ? mesh.alphaTexture : -1;
-    glm::vec3 c = mesh.transmittanceColor;
+    const int texture = alphaTextureOf(scene, mesh);
+    const glm::vec3 c = mesh.transmittanceColor;
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
       const glm::vec3& p = mesh.positions[i];
       glm::vec3 n = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0, 1, 0);
@@ -120,6 +122,23 @@ SceneGpu::SceneGpu(const Scene& scene) {
       vertexData.insert(vertexData.end(), {p.x, p.y, p.z, n.x, n.y, n.z, mesh.albedo.r, mesh.albedo.g, mesh.albedo.b,
                                            c.r, c.g, c.b, uv.x, uv.y, float(texture), mesh.alphaCutoff, mesh.opacity});
     }
+  }
+  return vertexData;
+}
+}  // namespace
+
+SceneGpu::SceneGpu(const Scene& scene) {
+  std::vector<float> vertexData = vertexRecords(scene);
+  std::vector<uint32_t> opaque;
+  struct Pending {
+    std::vector<uint32_t> indices;
+    int texture;
+  };
+  std::vector<Pending> translucent;
+  uint32_t base = 0;  // the mesh's first vertex in vertexData
+  for (const Mesh& mesh : scene.meshes) {
+    if (mesh.opacity <= 0.0f) continue;
+    const int texture = alphaTextureOf(scene, mesh);
     if (mesh.isOpaque()) {
       for (uint32_t index : mesh.indices) opaque.push_back(base + index);
     } else {
@@ -127,6 +146,7 @@ SceneGpu::SceneGpu(const Scene& scene) {
       for (uint32_t index : mesh.indices) pending.indices.push_back(base + index);
       translucent.push_back(std::move(pending));
     }
+    base += uint32_t(mesh.positions.size());
   }
   for (const AlphaTexture& t : scene.alphaTextures) {
     gl::Texture texture = gl::createTexture2D(GL_R32F, t.width, t.height);
@@ -142,12 +162,15 @@ SceneGpu::SceneGpu(const Scene& scene) {
     opaque.insert(opaque.end(), p.indices.begin(), p.indices.end());
   }
   indexCount = GLsizei(opaque.size());
-  vertices = gl::createBuffer(vertexData.size() * sizeof(float), vertexData.empty() ? nullptr : vertexData.data(), 0);
+  // Dynamic storage: a scene whose geometry moves rewrites it every frame (updateVertices).
+  vertexFloats_ = vertexData.size();
+  vertices = gl::createBuffer(vertexData.size() * sizeof(float), vertexData.empty() ? nullptr : vertexData.data(),
+                              scene.animation.movesGeometry() ? GLbitfield(GL_DYNAMIC_STORAGE_BIT) : 0);
   indices = gl::createBuffer(opaque.size() * sizeof(uint32_t), opaque.empty() ? nullptr : opaque.data(), 0);
   GLuint id = 0;
   glCreateVertexArrays(1, &id);
   vao = gl::VertexArray(id);
-  glVertexArrayVertexBuffer(id, 0, vertices.id(), 0, kFloats * sizeof(float));
+  glVertexArrayVertexBuffer(id, 0, vertices.id(), 0, kVertexFloats * sizeof(float));
   glVertexArrayElementBuffer(id, indices.id());
   const GLint sizes[6] = {3, 3, 3, 3, 2, 3};
   GLuint offset = 0;
@@ -158,6 +181,13 @@ SceneGpu::SceneGpu(const Scene& scene) {
     offset += GLuint(sizes[a]);
   }
   scene.bounds(boundsLo, boundsHi);
+}
+
+void SceneGpu::updateVertices(const Scene& scene) {
+  std::vector<float> vertexData = vertexRecords(scene);
+  if (vertexData.size() != vertexFloats_)
+    throw std::logic_error("updateVertices: the scene's meshes changed size (only their poses may move)");
+  if (!vertexData.empty()) glNamedBufferSubData(vertices.id(), 0, GLsizeiptr(vertexData.size() * sizeof(float)), vertexData.data());
 }
 
 void SceneGpu::draw() const {

@@ -122,6 +122,9 @@ struct SceneGpu {
   GLsizei opaqueIndexCount = 0;  // the first opaqueIndexCount indices belong to opaque meshes
   glm::vec3 boundsLo{0}, boundsHi{0};
   explicit SceneGpu(const Scene& scene);
+  // Uploads the vertices of `scene` again: the same meshes in new poses (a moving scene's frame).
+  // The buffer has dynamic storage only when the scene's geometry moves.
+  void updateVertices(const Scene& scene);
   void draw() const;             // everything the camera sees
   void drawOpaque() const;       // what the shadow map holds
   void drawTranslucent() const;  // what the transmittance map holds
@@ -133,6 +136,7 @@ struct SceneGpu {
   };
   std::vector<Range> translucent_;
   std::vector<gl::Texture> alphaTextures_;
+  size_t vertexFloats_ = 0;
 };
 
 struct ShadowMap {
@@ -226,6 +230,9 @@ class SharedPasses {
 
 // The passes SharedPasses runs for every method ("Shadow Map", "Transmittance Map", "G Buffer",
 // "Direct Lighting", "Composite"); a method's own passes are the rest (scatter time, as the papers count).
+// A moving scene's geometry placed at the frame's time and uploaded again: scene work that every
+// method's frame pays alike, so shared.
+inline constexpr const char* kGeometryUpdatePass = "Geometry Update";
 bool isSharedPass(const std::string& pass);
 
 // Preprocessor defines that specialise shaders to the scene's light type, light texture and phase

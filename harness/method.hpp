@@ -102,6 +102,14 @@ class Method {
     (void)effects;
     return lightFixedAtSetup();
   }
+  // true: setup() derives state from where the meshes are (a point cloud, depth ranges), so when
+  // a moving scene's geometry moves, the runner sets the method up again inside the frame
+  // ("Geometry Refit", the method's own pass). Structures rebuilt from the shared passes every
+  // frame follow the geometry by themselves.
+  virtual bool setupDependsOnGeometry(const Effects& effects) const {
+    (void)effects;
+    return false;
+  }
   // Where the method departs from the model (README "What is computed"), one short phrase each,
   // e.g. "homogeneous extinction along light rays"; recorded in every result row. Read before
   // setup and again after it, which may add the departures of this scene and these parameters.

@@ -32,7 +32,12 @@ const char* runStatusName(RunStatus s) {
 Runner::Runner(const Scene& scene, const gl::Limits& limits, RunOptions options)
     : scene_(scene), limits_(limits), options_(options), effects_(deriveEffects(scene)) {
   if (scene_.animation.moves()) moving_ = std::make_unique<Scene>(scene_);
-  geometry_ = std::make_unique<SceneGpu>(scene_);
+  if (moving_ && scene_.animation.movesGeometry()) {
+    // Moving geometry starts in frame 0's pose, the one the first method is set up with.
+    scene_.animation.moveGeometry(0.0, scene_.meshes, moving_->meshes);
+    geometryTime_ = 0.0;
+  }
+  geometry_ = std::make_unique<SceneGpu>(live());
   shared_ = std::make_unique<SharedPasses>(live(), *geometry_, effects_, options_.width, options_.height);
   shared_->setShadowCasters(options_.shadowCasters);
 }
@@ -123,6 +128,7 @@ double Runner::setUp(Method& method, const ParamValues& params) {
   shared_->lightMoved();
   setupParams_ = params;
   lightAtSetup_ = live().light;
+  geometryTimeAtSetup_ = geometryTime_;
   const Scene& scene = vpl_ ? vpl_->scene : live();
   const Effects& effects = vpl_ ? vpl_->effects : effects_;
   shared().setShadowMapSize(shadowMapSize);
@@ -150,40 +156,65 @@ static bool sameLight(const Light& a, const Light& b) {
          a.intensity == b.intensity && a.width == b.width && a.height == b.height && a.radius == b.radius;
 }
 
-// Moves the camera and the light to the frame's time; true when the method, fitted to the light
-// at its set-up, must be set up again.
-bool Runner::followAnimation(Method& method, uint32_t frameIndex) {
-  if (!moving_) return false;
+// Moves the camera and the light to the frame's time, and says whether the geometry moves and
+// whether the method must be set up again: fitted to the light at its set-up when the light moved,
+// or to the meshes' pose when the geometry did.
+Runner::FrameMotion Runner::followAnimation(Method& method, uint32_t frameIndex) {
+  FrameMotion motion;
+  if (!moving_) return motion;
   Scene& scene = *moving_;
+  const Animation& animation = scene_.animation;
+  motion.time = animation.timeOf(frameIndex);
   const Light before = scene.light;
-  scene_.animation.apply(scene_.animation.timeOf(frameIndex), scene.camera, scene.light);
+  animation.apply(motion.time, scene.camera, scene.light);
   if (vpl_) vpl_->scene.camera = scene.camera;
-  if (sameLight(before, scene.light)) return false;
-  shared_->lightMoved();
-  if (vpl_) vpl_->place(scene.light, setupParams_.getInt("vpls"));
-  return method.setupDependsOnLight(vpl_ ? vpl_->effects : effects_) && !sameLight(lightAtSetup_, scene.light);
+  motion.geometryMoves = animation.movesGeometry() && motion.time != geometryTime_;
+  const Effects& effects = vpl_ ? vpl_->effects : effects_;
+  if (!sameLight(before, scene.light)) {
+    shared_->lightMoved();
+    if (vpl_) vpl_->place(scene.light, setupParams_.getInt("vpls"));
+    if (method.setupDependsOnLight(effects) && !sameLight(lightAtSetup_, scene.light)) motion.refit = kLightRefitPass;
+  }
+  if (!motion.refit && animation.movesGeometry() && method.setupDependsOnGeometry(effects) &&
+      motion.time != geometryTimeAtSetup_)
+    motion.refit = kGeometryRefitPass;
+  return motion;
 }
 
-// Sets the method up again for the light where it is now, inside the frame: its cost is the
-// frame's (programs come from the in-process binary cache, so this is the rebuild, not a compile).
-void Runner::refit(Method& method, PassTimer& timer) {
+// Inside the frame: the geometry placed at the frame's time and uploaded (a shared pass), then the
+// method set up again where it must be.
+void Runner::applyMotion(Method& method, PassTimer& timer, const FrameMotion& motion) {
+  if (motion.geometryMoves) {
+    auto scope = timer.scope(kGeometryUpdatePass);
+    scene_.animation.moveGeometry(motion.time, scene_.meshes, moving_->meshes);
+    geometry_->updateVertices(*moving_);
+    geometryTime_ = motion.time;
+  }
+  if (motion.refit) refit(method, timer, motion.refit);
+}
+
+// Sets the method up again for the light and geometry where they are now, inside the frame: its
+// cost is the frame's (programs come from the in-process binary cache, so this is the rebuild, not
+// a compile).
+void Runner::refit(Method& method, PassTimer& timer, const char* pass) {
   if (!effects_.scattering) return;
-  auto scope = timer.scope(kLightRefitPass);
+  auto scope = timer.scope(pass);
   const Scene& scene = vpl_ ? vpl_->scene : live();
   const Effects& effects = vpl_ ? vpl_->effects : effects_;
   SetupContext context{scene, *geometry_, effects, options_.width, options_.height, setupParams_.getInt("sm"), limits_};
   method.setup(context, setupParams_);
   lightAtSetup_ = live().light;
+  geometryTimeAtSetup_ = geometryTime_;
   gl::resetPipelineState();
 }
 
 void Runner::renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record) {
-  const bool refitting = followAnimation(method, frameIndex);
-  if (vpl_) return renderFrameVpl(method, timer, frameIndex, record);
+  const FrameMotion motion = followAnimation(method, frameIndex);
+  if (vpl_) return renderFrameVpl(method, timer, frameIndex, record, motion);
   shared_->updateUniforms(frameIndex, options_.seed);
   gl::resetPipelineState();
   timer.beginFrame(record);
-  if (refitting) refit(method, timer);
+  applyMotion(method, timer, motion);
   if (sharedShadowMap_) shared_->renderShadowMap(timer);
   shared_->renderGBuffer(timer);
   shared_->renderDirect(timer);
@@ -201,12 +232,14 @@ void Runner::renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, 
 // shared passes always see it (a cosine-lobed point light at its centre); then per VPL its shadow
 // map and the method's passes, and L_s is added up. The method's own surface shadows are not
 // summed over VPLs: the shared Direct Lighting is restored after the loop.
-void Runner::renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record) {
+void Runner::renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record,
+                            const FrameMotion& motion) {
   VplWrapper& w = *vpl_;
   SharedPasses& shared = *w.shared;
   w.useLight(w.centre, frameIndex, options_.seed);
   gl::resetPipelineState();
   timer.beginFrame(record);
+  applyMotion(method, timer, motion);
   if (sharedShadowMap_) shared.renderShadowMap(timer);
   shared.renderGBuffer(timer);
   shared.renderDirect(timer);

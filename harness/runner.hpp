@@ -91,9 +91,11 @@ class Runner {
   // timed (recorded when `record`). The scene's camera and light are read every frame: after moving the light call
   // shared().lightMoved() and set the method up again.
   // A moving scene (Scene::animation) is shown at t = animation.timeOf(frameIndex): renderFrame
-  // moves the camera and the light there first, and when the light moved, a method that fits its
-  // structures to the light (Method::lightFixedAtSetup) is set up again inside the frame, timed as
-  // its pass "Light Refit", so the rebuild is part of the frame's cost.
+  // moves the camera and the light there first; moving geometry is placed and uploaded inside the
+  // frame (the shared pass "Geometry Update"). When the light moved, a method that fits its
+  // structures to the light (Method::setupDependsOnLight) is set up again inside the frame, timed
+  // as its pass "Light Refit"; when the geometry moved, one that derives state from the meshes
+  // (Method::setupDependsOnGeometry), as "Geometry Refit". So the rebuild is part of the frame.
   double setUp(Method& method, const ParamValues& params);
   void renderFrame(Method& method, PassTimer& timer, uint32_t frameIndex, bool record = true);
   // The shared passes of the method set up last (the per-VPL wrapper has its own).
@@ -109,23 +111,33 @@ class Runner {
   const Scene& live() const { return moving_ ? *moving_ : scene_; }
   const gl::Limits& limits_;
   RunOptions options_;
-  // What the method set up last was fitted to, to be set up again when the light moves.
+  // What the method set up last was fitted to, to be set up again when the light or geometry moves.
   ParamValues setupParams_;
   Light lightAtSetup_;
-  bool followAnimation(Method& method, uint32_t frameIndex);  // true: the method must be refitted
-  void refit(Method& method, PassTimer& timer);
+  double geometryTimeAtSetup_ = 0.0;
+  double geometryTime_ = 0.0;  // the time of the pose moving_'s meshes and geometry_ hold
+  struct FrameMotion {
+    double time = 0.0;
+    bool geometryMoves = false;
+    const char* refit = nullptr;  // the refit pass to run, or null
+  };
+  FrameMotion followAnimation(Method& method, uint32_t frameIndex);
+  void applyMotion(Method& method, PassTimer& timer, const FrameMotion& motion);
+  void refit(Method& method, PassTimer& timer, const char* pass);
   Effects effects_;
   std::unique_ptr<SceneGpu> geometry_;
   std::unique_ptr<SharedPasses> shared_;
   bool sharedShadowMap_ = true;  // of the method set up last
   struct VplWrapper;
   std::unique_ptr<VplWrapper> vpl_;  // set when the method set up last runs per VPL
-  void renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record);
+  void renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record, const FrameMotion& motion);
 };
 
 // The pass a frame of a moving scene runs when a method set up for one light position is set up
 // again for the light's new state.
 inline constexpr const char* kLightRefitPass = "Light Refit";
+// ...and when a method that derives state from the meshes' pose is set up again for their new pose.
+inline constexpr const char* kGeometryRefitPass = "Geometry Refit";
 
 // Runner::unsupportedReason without a Runner.
 std::string unsupportedReason(const Scene& scene, const Method& method, const ParamValues& params);

@@ -94,7 +94,10 @@ class GltfReader {
         if (!isChild[n]) roots.push_back(int(n));
     }
     onPath_.assign(model_.nodes.size(), false);
-    for (int root : roots) visitNode(root, transform);
+    rigNodes_.assign(model_.nodes.size(), GltfRig::Node{});
+    visited_.assign(model_.nodes.size(), false);
+    for (int root : roots) visitNode(root, -1, transform);
+    if (!model_.animations.empty()) readAnimations(transform);
     return std::move(content_);
   }
 
@@ -136,17 +139,157 @@ class GltfReader {
     return t * r * s;
   }
 
-  void visitNode(int index, const glm::mat4& parent) {
+  void visitNode(int index, int parentIndex, const glm::mat4& parent) {
     const tinygltf::Node& node = nodeAt(index);
     if (onPath_[size_t(index)]) fail("node hierarchy has a cycle through node " + std::to_string(index));
     onPath_[size_t(index)] = true;
-    glm::mat4 world = parent * localMatrix(index, node);
-    if (node.mesh >= 0) addMesh(node.mesh, world);
+    const glm::mat4 local = localMatrix(index, node);
+    glm::mat4 world = parent * local;
+    recordRigNode(index, parentIndex, node, local);
+    if (node.mesh >= 0) {
+      addMesh(node.mesh, world);
+      content_.meshNode.resize(content_.meshes.size(), index);
+    }
     else if (node.mesh < -1) fail("node " + std::to_string(index) + ": mesh index " + std::to_string(node.mesh) + " out of range");
     auto lightExtension = node.extensions.find("KHR_lights_punctual");
     if (lightExtension != node.extensions.end() && !content_.hasLight) readNodeLight(index, lightExtension->second, world);
-    for (int child : node.children) visitNode(child, world);
+    for (int child : node.children) visitNode(child, index, world);
     onPath_[size_t(index)] = false;
+  }
+
+  // The node as the rig keeps it: its parent and rest transform (TRS, or its matrix).
+  void recordRigNode(int index, int parentIndex, const tinygltf::Node& node, const glm::mat4& local) {
+    GltfRig::Node& r = rigNodes_[size_t(index)];
+    if (visited_[size_t(index)] && r.parent != parentIndex) multiParent_ = index;
+    visited_[size_t(index)] = true;
+    r.parent = parentIndex;
+    r.hasMatrix = !node.matrix.empty();
+    r.matrix = local;
+    if (node.translation.size() == 3)
+      r.translation = glm::vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2]));
+    if (node.scale.size() == 3) r.scale = glm::vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2]));
+    if (node.rotation.size() == 4)
+      r.rotation = glm::normalize(
+          glm::quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2])));
+  }
+
+  // Every animation's channels on translation, rotation and scale ("weights": morph targets, left
+  // out with a warning). Keys as glTF gives them: times in seconds, strictly increasing.
+  void readAnimations(const glm::mat4& placement) {
+    if (multiParent_ >= 0)
+      fail("node " + std::to_string(multiParent_) + " has more than one parent: its animation would be ambiguous");
+    auto rig = std::make_shared<GltfRig>();
+    rig->placement = placement;
+    rig->nodes = rigNodes_;
+    for (size_t a = 0; a < model_.animations.size(); ++a) {
+      const tinygltf::Animation& animation = model_.animations[a];
+      GltfRig::Clip clip;
+      clip.name = animation.name;
+      const std::string what = "animation " + std::to_string(a) + (animation.name.empty() ? "" : " ('" + animation.name + "')");
+      for (size_t c = 0; c < animation.channels.size(); ++c) {
+        const tinygltf::AnimationChannel& channel = animation.channels[c];
+        const std::string where = what + " channel " + std::to_string(c);
+        if (channel.target_path == "weights") {
+          content_.warnings.push_back(path_ + ": " + where + " animates morph-target weights, which are not played");
+          continue;
+        }
+        if (channel.target_path != "translation" && channel.target_path != "rotation" && channel.target_path != "scale")
+          fail(where + ": unknown target path '" + channel.target_path + "'");
+        if (channel.target_node < 0 || size_t(channel.target_node) >= model_.nodes.size())
+          fail(where + ": target node " + std::to_string(channel.target_node) + " out of range");
+        if (rig->nodes[size_t(channel.target_node)].hasMatrix)
+          fail(where + ": node " + std::to_string(channel.target_node) + " has a 'matrix', which glTF forbids animating");
+        if (channel.sampler < 0 || size_t(channel.sampler) >= animation.samplers.size())
+          fail(where + ": sampler " + std::to_string(channel.sampler) + " out of range");
+        const tinygltf::AnimationSampler& sampler = animation.samplers[size_t(channel.sampler)];
+        const bool rotation = channel.target_path == "rotation";
+        KeyedChannel keys = readSampler(sampler, rotation, where);
+        clip.duration = std::max(clip.duration, keys.times.empty() ? 0.0f : keys.times.back());
+        GltfRig::NodeChannels& node = clip.nodes[channel.target_node];
+        (rotation ? node.rotation : channel.target_path == "scale" ? node.scale : node.translation) = std::move(keys);
+      }
+      rig->clips.push_back(std::move(clip));
+    }
+    content_.rig = std::move(rig);
+  }
+
+  KeyedChannel readSampler(const tinygltf::AnimationSampler& sampler, bool rotation, const std::string& where) const {
+    KeyedChannel keys;
+    keys.rotation = rotation;
+    const std::string& mode = sampler.interpolation;
+    if (mode.empty() || mode == "LINEAR") keys.mode = KeyedChannel::Mode::Linear;
+    else if (mode == "STEP") keys.mode = KeyedChannel::Mode::Step;
+    else if (mode == "CUBICSPLINE") keys.mode = KeyedChannel::Mode::CubicSpline;
+    else fail(where + ": unknown interpolation '" + mode + "' (LINEAR, STEP or CUBICSPLINE)");
+    AccessorView input = viewAccessor(sampler.input, TINYGLTF_TYPE_SCALAR, where + " input");
+    if (model_.accessors[size_t(sampler.input)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      fail(where + " input accessor " + std::to_string(sampler.input) + ": key times must be floats");
+    if (input.count == 0) fail(where + ": no keys");
+    for (size_t i = 0; i < input.count; ++i) {
+      float t = 0.0f;
+      if (input.data) std::memcpy(&t, input.data + i * input.stride, sizeof t);
+      if (!std::isfinite(t) || t < 0.0f) fail(where + ": key time " + std::to_string(i) + " is negative or not finite");
+      if (i > 0 && !(t > keys.times.back())) fail(where + ": key times must increase strictly (key " + std::to_string(i) + ")");
+      keys.times.push_back(t);
+    }
+    std::vector<glm::vec4> out = readKeyValues(sampler.output, rotation, where + " output");
+    const size_t perKey = keys.mode == KeyedChannel::Mode::CubicSpline ? 3 : 1;
+    if (out.size() != perKey * keys.times.size())
+      fail(where + ": " + std::to_string(out.size()) + " output values for " + std::to_string(keys.times.size()) +
+           " key times" + (perKey == 3 ? " (CUBICSPLINE: 3 per key)" : ""));
+    for (size_t k = 0; k < keys.times.size(); ++k) {
+      if (perKey == 3) {
+        keys.inTangents.push_back(out[3 * k]);
+        keys.values.push_back(out[3 * k + 1]);
+        keys.outTangents.push_back(out[3 * k + 2]);
+      } else {
+        keys.values.push_back(out[k]);
+      }
+      if (rotation && !(glm::length(keys.values.back()) > 0.0f)) fail(where + ": key " + std::to_string(k) + " is a zero quaternion");
+    }
+    if (rotation)
+      for (glm::vec4& q : keys.values) q = glm::normalize(q);
+    return keys;
+  }
+
+  // An animation output: VEC3 floats (translation, scale) or VEC4 (rotation: floats, or normalised
+  // signed/unsigned bytes or shorts as glTF allows), every value finite.
+  std::vector<glm::vec4> readKeyValues(int index, bool rotation, const std::string& what) const {
+    const int type = rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
+    AccessorView view = viewAccessor(index, type, what);
+    const int componentType = model_.accessors[size_t(index)].componentType;
+    const int components = rotation ? 4 : 3;
+    if (componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !rotation)
+      fail(what + " accessor " + std::to_string(index) + ": components must be floats");
+    std::vector<glm::vec4> values(view.count, glm::vec4(0.0f));
+    if (!view.data) return values;
+    for (size_t i = 0; i < view.count; ++i) {
+      const unsigned char* element = view.data + i * view.stride;
+      for (int c = 0; c < components; ++c) {
+        float v = 0.0f;
+        switch (componentType) {
+          case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, element + 4 * c, 4); break;
+          case TINYGLTF_COMPONENT_TYPE_BYTE: v = std::max(float(int8_t(element[c])) / 127.0f, -1.0f); break;
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = float(element[c]) / 255.0f; break;
+          case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            int16_t x;
+            std::memcpy(&x, element + 2 * c, 2);
+            v = std::max(float(x) / 32767.0f, -1.0f);
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t x;
+            std::memcpy(&x, element + 2 * c, 2);
+            v = float(x) / 65535.0f;
+            break;
+          }
+          default: fail(what + " accessor " + std::to_string(index) + ": unsupported component type");
+        }
+        if (!std::isfinite(v)) fail(what + " accessor " + std::to_string(index) + ": value " + std::to_string(i) + " is not finite");
+        values[i][c] = v;
+      }
+    }
+    return values;
   }
 
   void readNodeLight(int nodeIndex, const tinygltf::Value& extension, const glm::mat4& world) {
@@ -205,14 +348,19 @@ class GltfReader {
     if (accessor.type != wantedType) fail(where + "unexpected element type");
     size_t componentSize = 0;
     switch (accessor.componentType) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: componentSize = 1; break;
+      case TINYGLTF_COMPONENT_TYPE_SHORT:
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: componentSize = 2; break;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
       case TINYGLTF_COMPONENT_TYPE_FLOAT: componentSize = 4; break;
       default: fail(where + "unsupported component type " + std::to_string(accessor.componentType));
     }
     const size_t elementSize =
-        componentSize * (wantedType == TINYGLTF_TYPE_VEC3 ? 3 : wantedType == TINYGLTF_TYPE_VEC2 ? 2 : 1);
+        componentSize * (wantedType == TINYGLTF_TYPE_VEC4   ? 4
+                         : wantedType == TINYGLTF_TYPE_VEC3 ? 3
+                         : wantedType == TINYGLTF_TYPE_VEC2 ? 2
+                                                            : 1);
     AccessorView view;
     view.count = accessor.count;
     view.stride = elementSize;
@@ -347,7 +495,8 @@ class GltfReader {
   std::vector<uint32_t> readIndices(int index, const std::string& what) const {
     AccessorView view = viewAccessor(index, TINYGLTF_TYPE_SCALAR, what);
     int componentType = model_.accessors[size_t(index)].componentType;
-    if (componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+    if (componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
       fail(what + " accessor " + std::to_string(index) + ": indices must be unsigned integers");
     std::vector<uint32_t> values(view.count, 0);
     if (!view.data) return values;
@@ -463,6 +612,9 @@ class GltfReader {
   std::string path_;
   const tinygltf::Model& model_;
   std::vector<bool> onPath_;
+  std::vector<GltfRig::Node> rigNodes_;  // per node: parent and rest transform
+  std::vector<bool> visited_;
+  int multiParent_ = -1;                 // a node met under two parents (-1: none)
   GltfContent content_;
   std::map<int, int> decoded_;            // image index -> alpha texture index (-1: no alpha)
   ImageBytes imageBytes_;                 // image index -> encoded bytes (filled by tinygltf)

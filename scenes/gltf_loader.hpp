@@ -1,8 +1,10 @@
 // glTF 2.0 (.gltf with embedded or external buffers, and .glb) geometry and KHR_lights_punctual lights.
 #pragma once
 #include <glm/glm.hpp>
+#include <memory>
 #include <string>
 #include <vector>
+#include "scenes/animation.hpp"
 #include "scenes/content_hash.hpp"
 #include "scenes/scene.hpp"
 
@@ -16,6 +18,13 @@ struct GltfContent {
   std::vector<AlphaTexture> alphaTextures;
   bool hasLight = false;  // the first KHR_lights_punctual light met in the node hierarchy
   Light light;
+  // The file's node animations (glTF "animations"), for a scene's animation block to play: the
+  // node hierarchy with its rest transforms and every clip's channels (placement: `transform`).
+  // Null when the file has none. meshNode[k] is the node whose instance meshes[k] is.
+  std::shared_ptr<GltfRig> rig;
+  std::vector<int> meshNode;
+  // What loading left out (morph-target "weights" channels), one line each.
+  std::vector<std::string> warnings;
 };
 
 // Loads the default scene (or the first scene, or all root nodes when there is none), applying node

@@ -142,13 +142,18 @@ struct Scene {
   std::vector<AlphaTexture> alphaTextures;  // referenced by Mesh::alphaTexture
   std::string contentHash; // hash of the scene's defining text and referenced files (cache keys)
   size_t droppedTriangles = 0;  // degenerate triangles (NaN/Inf vertex, zero area) removed at load
-  Animation animation;          // keyframed camera and light; still unless animation.moves()
+  Animation animation;          // keyframed camera, light and geometry; still unless animation.moves()
+  // Geometry that moves: the bounds over the whole sequence (sequenceBounds), kept by sceneAt's
+  // still frames, so that bounds() and every fit to it are the same at every frame.
+  bool hasMotionBounds = false;
+  glm::vec3 motionLo{0.0f}, motionHi{0.0f};
   // What loading assumed where the input was incomplete (an OBJ's missing material library, say),
   // one line each naming the file and line: printed by the commands, recorded in meta.json.
   std::vector<std::string> warnings;
 
   size_t triangleCount() const;
-  // Axis-aligned bounds of all geometry and volume boxes; a unit box around the origin when empty.
+  // Axis-aligned bounds of all geometry (over the whole sequence when it moves) and volume boxes;
+  // a unit box around the origin when empty.
   void bounds(glm::vec3& lo, glm::vec3& hi) const;
 };
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include "scenes/builtin_scenes.hpp"
 #include "scenes/content_hash.hpp"
 #include "scenes/gltf_loader.hpp"
@@ -33,6 +34,11 @@ void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
       hi = glm::max(hi, p);
       any = true;
     }
+  }
+  if (hasMotionBounds && motionLo.x <= motionHi.x) {
+    lo = glm::min(lo, motionLo);
+    hi = glm::max(hi, motionHi);
+    any = true;
   }
   for (const Volume& v : volumes) {
     lo = glm::min(lo, v.boxLo);
@@ -255,6 +261,8 @@ glm::mat4 readFilePlacement(ObjectReader& entry, const std::string& materialKeys
 
 struct GeometryResult {
   std::vector<Mesh> meshes;
+  std::vector<int> meshNode;             // per mesh: its glTF node (-1: not from glTF)
+  std::shared_ptr<const GltfRig> rig;    // the last glTF entry's node animations (null: none)
   std::vector<AlphaTexture> alphaTextures;
   bool usedGenerator = false;
   bool hasGltfLight = false;
@@ -303,11 +311,15 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     }
     int textureBase = int(out.alphaTextures.size());
     for (AlphaTexture& t : content.alphaTextures) out.alphaTextures.push_back(std::move(t));
-    for (Mesh& mesh : content.meshes) {
+    for (size_t k = 0; k < content.meshes.size(); ++k) {
+      Mesh& mesh = content.meshes[k];
       if (mesh.alphaTexture >= 0) mesh.alphaTexture += textureBase;
       if (!name.empty()) mesh.name = name + "/" + mesh.name;
       out.meshes.push_back(std::move(mesh));
+      out.meshNode.push_back(k < content.meshNode.size() ? content.meshNode[k] : -1);
     }
+    out.rig = content.rig;
+    for (std::string& w : content.warnings) out.warnings.push_back(std::move(w));
     if (content.hasLight && !out.hasGltfLight) {
       out.hasGltfLight = true;
       out.gltfLight = content.light;
@@ -426,15 +438,106 @@ void checkEveryFrame(const Scene& scene, const JsonLocation& at) {
     if (!(glm::length(view) > 1e-6f)) at.child("camera").fail(when + "the camera's target coincides with its position");
     if (glm::length(glm::cross(glm::normalize(view), camera.up)) < 1e-4f)
       at.child("camera").fail(when + "the camera looks along its up vector");
+    for (size_t g = 0; g < a.geometry.size(); ++g)
+      if (!a.geometry[g].scale.empty() && !(a.geometry[g].scale.at(t) > 0.0f))
+        at.child("geometry").item(g).child("scale").fail(when + "the scale is not positive (the interpolation overshoots)");
     if (a.lightDirection.empty() && a.lightTarget.empty()) continue;
     glm::vec3 direction = a.lightTarget.empty() ? a.lightDirection.at(t) : a.lightTarget.at(t) - light.position;
     if (!(glm::length(direction) > 1e-6f)) at.child("light").fail(when + "the light's direction is zero");
   }
 }
 
-Animation readAnimation(ObjectReader animation, const Scene& scene) {
+// The geometry entries of a scene file, for the animation's references to them.
+struct GeometryEntries {
+  std::vector<std::string> names;          // "" for an entry without a name
+  std::vector<std::vector<size_t>> meshes; // per entry, its meshes in Scene::meshes
+  std::vector<std::vector<int>> meshNodes; // per entry, per mesh: its glTF node (-1: none)
+  std::vector<std::shared_ptr<const GltfRig>> rigs;  // per entry: its glTF animations (null: none)
+};
+
+// {"entry": ..., "gltf_animation": NAME or INDEX}: a glTF entry plays one of its animations.
+void readGltfAnimation(ObjectReader& item, size_t index, const GeometryEntries& entries, GeometryMotion& g) {
+  const JsonLocation at = item.locationOf("gltf_animation");
+  for (const char* key : {"pivot", "axis", "translate", "angle_deg", "scale"})
+    item.forbid(key, "a motion plays either its glTF animation or its own tracks");
+  const std::shared_ptr<const GltfRig>& rig = entries.rigs[index];
+  if (!rig || rig->clips.empty()) at.fail("geometry entry " + g.entry + " has no glTF animation to play");
+  const Json& clip = item.required("gltf_animation");
+  if (clip.is_string()) {
+    const std::string name = clip.get<std::string>();
+    std::vector<std::string> names;
+    for (const GltfRig::Clip& c : rig->clips) names.push_back(c.name);
+    auto it = std::find(names.begin(), names.end(), name);
+    if (name.empty() || it == names.end()) at.fail("the glTF file has no animation named '" + name + "'" + didYouMean(name, names));
+    g.clip = int(it - names.begin());
+  } else {
+    g.clip = int(readInteger(clip, at, 0, int64_t(rig->clips.size()) - 1));
+  }
+  g.rig = rig;
+  g.meshNodes = entries.meshNodes[index];
+  for (size_t k = 0; k < g.meshes.size(); ++k) {
+    const glm::mat4 rest = rig->worldAt(g.meshNodes[k], -1, 0.0);
+    if (!(std::fabs(glm::determinant(glm::mat3(rest))) > 1e-30f))
+      at.fail("node " + std::to_string(g.meshNodes[k]) + " has a singular rest transform: its mesh cannot be moved");
+    g.restInverse.push_back(glm::inverse(rest));
+  }
+}
+
+// {"entry": NAME or INDEX, "pivot": [x, y, z], "axis": [x, y, z], "translate": TRACK,
+//  "angle_deg": TRACK, "scale": TRACK}
+GeometryMotion readGeometryMotion(ObjectReader item, const Scene& scene, const GeometryEntries& entries,
+                                  double duration) {
+  GeometryMotion g;
+  item.declare({"entry", "pivot", "axis", "translate", "angle_deg", "scale", "gltf_animation"});
+  const Json& entry = item.required("entry");
+  const JsonLocation entryAt = item.locationOf("entry");
+  size_t index = 0;
+  if (entry.is_string()) {
+    const std::string name = entry.get<std::string>();
+    auto it = std::find(entries.names.begin(), entries.names.end(), name);
+    if (name.empty() || it == entries.names.end()) {
+      std::vector<std::string> named;
+      for (const std::string& n : entries.names)
+        if (!n.empty()) named.push_back(n);
+      entryAt.fail("no geometry entry is named '" + name + "'" + didYouMean(name, named));
+    }
+    index = size_t(it - entries.names.begin());
+    g.entry = "'" + name + "'";
+  } else if (entry.is_number()) {
+    index = size_t(readInteger(entry, entryAt, 0, int64_t(entries.names.size()) - 1));
+    g.entry = entries.names[index].empty() ? "#" + std::to_string(index) : "'" + entries.names[index] + "'";
+  } else {
+    entryAt.fail("expected a geometry entry's name or index, got " + std::string(entry.type_name()));
+  }
+  g.meshes = entries.meshes[index];
+  if (g.meshes.empty()) entryAt.fail("geometry entry " + g.entry + " has no triangles to move");
+  if (item.has("gltf_animation")) {
+    readGltfAnimation(item, index, entries, g);
+    item.finish();
+    return g;
+  }
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  for (size_t m : g.meshes)
+    for (const glm::vec3& p : scene.meshes[m].positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+  g.pivot = item.vec3("pivot", 0.5f * (lo + hi), Range::closed(-1e6, 1e6));
+  glm::vec3 axis = item.vec3("axis", glm::vec3(0, 1, 0), Range::closed(-1e6, 1e6));
+  if (!(glm::length(axis) > 1e-6f)) item.fail("axis", "the rotation axis must not be zero");
+  g.axis = glm::normalize(axis);
+  g.translate = vec3Track(item, "translate", duration);
+  g.angleDeg = numberTrack(item, "angle_deg", duration, Range::closed(-1e6, 1e6));
+  g.scale = numberTrack(item, "scale", duration, Range::open(0.0, 1e6));
+  item.finish();
+  if (g.translate.empty() && g.angleDeg.empty() && g.scale.empty())
+    item.location().fail("a geometry motion needs a 'translate', 'angle_deg' or 'scale' track, or 'gltf_animation'");
+  return g;
+}
+
+Animation readAnimation(ObjectReader animation, const Scene& scene, const GeometryEntries& entries) {
   Animation a;
-  animation.declare({"duration", "fps", "camera", "light"});
+  animation.declare({"duration", "fps", "camera", "light", "geometry"});
   a.duration = animation.number("duration", Range::open(0.0, 3600.0));
   a.fps = animation.number("fps", 24.0, Range::closed(1.0, 1000.0));
   if (a.duration * a.fps > 100000.0)
@@ -442,8 +545,20 @@ Animation readAnimation(ObjectReader animation, const Scene& scene) {
   if (const Json* camera = animation.optional("camera")) readCameraTracks(ObjectReader(*camera, animation.locationOf("camera")), a);
   if (const Json* light = animation.optional("light"))
     readLightTracks(ObjectReader(*light, animation.locationOf("light")), scene.light, a);
+  if (const Json* geometry = animation.optional("geometry")) {
+    const JsonLocation at = animation.locationOf("geometry");
+    if (!geometry->is_array()) at.fail("expected an array of geometry motions, got " + std::string(geometry->type_name()));
+    std::vector<size_t> moved;
+    for (size_t i = 0; i < geometry->size(); ++i) {
+      a.geometry.push_back(readGeometryMotion(ObjectReader((*geometry)[i], at.item(i)), scene, entries, a.duration));
+      if (std::find(moved.begin(), moved.end(), a.geometry.back().meshes.front()) != moved.end())
+        at.item(i).child("entry").fail("geometry entry " + a.geometry.back().entry + " already has a motion");
+      moved.push_back(a.geometry.back().meshes.front());
+    }
+  }
   animation.finish();
-  if (!a.movesCamera() && !a.movesLight()) animation.fail("camera", "an animation needs at least one track (camera or light)");
+  if (!a.movesCamera() && !a.movesLight() && !a.movesGeometry())
+    animation.fail("camera", "an animation needs at least one track (camera, light or geometry)");
   return a;
 }
 
@@ -476,8 +591,15 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
   JsonLocation geometryAt = root.locationOf("geometry");
   if (!geometry.is_array()) geometryAt.fail("expected an array, got " + std::string(geometry.type_name()));
   GeometryResult result;
-  for (size_t i = 0; i < geometry.size(); ++i)
+  std::vector<size_t> meshEntry;  // per mesh of result.meshes: the geometry entry it came from
+  std::vector<std::shared_ptr<const GltfRig>> entryRigs(geometry.size());
+  for (size_t i = 0; i < geometry.size(); ++i) {
+    result.rig.reset();
     readGeometryEntry(ObjectReader(geometry[i], geometryAt.item(i)), baseDir, hasher, result);
+    meshEntry.resize(result.meshes.size(), i);
+    result.meshNode.resize(result.meshes.size(), -1);
+    entryRigs[i] = result.rig;
+  }
 
   if (const Json* volumes = root.optional("volumes")) {
     JsonLocation volumesAt = root.locationOf("volumes");
@@ -495,16 +617,32 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
     root.fail("light", "missing required key (and no glTF file in the scene has a KHR_lights_punctual light)");
   }
 
-  if (const Json* animation = root.optional("animation")) {
-    scene.animation = readAnimation(ObjectReader(*animation, root.locationOf("animation")), scene);
-    checkEveryFrame(scene, root.locationOf("animation"));
-  }
-
   scene.alphaTextures = std::move(result.alphaTextures);
   scene.warnings = std::move(result.warnings);
-  for (Mesh& mesh : result.meshes) {
+  GeometryEntries entries;
+  entries.meshes.resize(geometry.size());
+  entries.meshNodes.resize(geometry.size());
+  entries.rigs = entryRigs;
+  for (size_t i = 0; i < geometry.size(); ++i) {
+    const Json& name = geometry[i].is_object() && geometry[i].contains("name") ? geometry[i]["name"] : Json();
+    entries.names.push_back(name.is_string() ? name.get<std::string>() : "");
+  }
+  for (size_t i = 0; i < result.meshes.size(); ++i) {
+    Mesh& mesh = result.meshes[i];
     scene.droppedTriangles += sanitizeMesh(mesh);
-    if (mesh.triangleCount() > 0) scene.meshes.push_back(std::move(mesh));
+    if (mesh.triangleCount() == 0) continue;
+    entries.meshes[meshEntry[i]].push_back(scene.meshes.size());
+    entries.meshNodes[meshEntry[i]].push_back(result.meshNode[i]);
+    scene.meshes.push_back(std::move(mesh));
+  }
+
+  if (const Json* animation = root.optional("animation")) {
+    scene.animation = readAnimation(ObjectReader(*animation, root.locationOf("animation")), scene, entries);
+    checkEveryFrame(scene, root.locationOf("animation"));
+    if (scene.animation.movesGeometry()) {
+      sequenceBounds(scene, scene.motionLo, scene.motionHi);
+      scene.hasMotionBounds = true;
+    }
   }
   if (result.usedGenerator) hasher.addBlock(std::string(kProceduralVersion));
   scene.contentHash = hasher.hex();

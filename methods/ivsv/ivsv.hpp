@@ -46,6 +46,11 @@ class IvsvMethod : public Method {
     (void)effects;
     return true;
   }
+  // The ISMs' point cloud is sampled on the meshes in setup.
+  bool setupDependsOnGeometry(const Effects& effects) const override {
+    (void)effects;
+    return true;
+  }
   // The ISM's holes leak light: with the light shut inside a box (tests/hard_cases.cpp) L_s
   // relMSE reaches 0.05 at the defaults.
   double declaredRelMseBound() const override { return 0.1; }

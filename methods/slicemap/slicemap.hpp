@@ -50,6 +50,11 @@ class SlicemapMethod : public Method {
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   bool needsSharedShadowMap() const override { return needsSharedShadowMap_; }
   bool lightFixedAtSetup() const override { return true; }  // depth slices are fitted to the light in setup
+  // ...and to the depth range of each colour class's meshes.
+  bool setupDependsOnGeometry(const Effects& effects) const override {
+    (void)effects;
+    return true;
+  }
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;

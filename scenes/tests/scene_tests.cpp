@@ -252,6 +252,14 @@ TEST(BuiltinScenes, AllLoadWithTheirStatedSizes) {
   EXPECT_EQ(vs::loadScene("fence").light.type, vs::LightType::Spot);
   EXPECT_EQ(vs::loadScene("trees").light.type, vs::LightType::Directional);
   EXPECT_EQ(vs::loadScene("terrain").light.type, vs::LightType::Directional);
+  // Moving geometry: the room's torus and knot turn, nothing else moves.
+  Scene spin = vs::loadScene("roomspin");
+  ASSERT_TRUE(spin.animation.movesGeometry());
+  EXPECT_FALSE(spin.animation.movesLight() || spin.animation.movesCamera());
+  Scene turned = vs::sceneAt(spin, 0.5);
+  int moved = 0;
+  for (size_t i = 0; i < spin.meshes.size(); ++i) moved += turned.meshes[i].positions != spin.meshes[i].positions;
+  EXPECT_EQ(moved, 2);
   // A moving built-in scene: the sun sweeps over the terrain; the epipole enters the screen.
   Scene sweep = vs::loadScene("sunsweep");
   ASSERT_TRUE(sweep.animation.moves());
@@ -1141,4 +1149,176 @@ TEST(Animation, BadTracksAreOneLineErrors) {
                       {"animation.camera", "target coincides with its position", "frame"});
   expectErrorMentions(loadError(dir, movingScene(R"({"duration": 1, "light": {"position": {"times": [0], "values": [[0,"x",0]]}}})")),
                       {"animation.light.position.values[0]"});
+}
+
+namespace {
+
+// A floor and a named ball; `animation` moves them.
+std::string movingGeometryScene(const std::string& animation) {
+  return sceneText(R"({"name": "floor", "generator": "plane", "params": {"center": [0, 0, 0], "size": [8, 8]}},
+    {"name": "ball", "generator": "sphere", "params": {"center": [2, 1, 0], "radius": 0.5}})",
+                   kPointLight, "\"animation\": " + animation);
+}
+
+glm::vec3 centreOf(const vs::Mesh& mesh) {
+  glm::vec3 sum(0.0f);
+  for (const glm::vec3& p : mesh.positions) sum += p;
+  return sum / float(std::max<size_t>(mesh.positions.size(), 1));
+}
+
+}  // namespace
+
+TEST(Animation, GeometryEntriesMoveRigidlyAboutTheirPivot) {
+  // The ball turns about the vertical axis through the origin (a quarter turn per second), rises
+  // and grows; the floor stays.
+  Scene scene = parse(movingGeometryScene(R"({"duration": 2, "fps": 2, "geometry": [{"entry": "ball",
+    "pivot": [0, 1, 0], "axis": [0, 2, 0], "angle_deg": {"times": [0, 2], "values": [0, 180]},
+    "translate": {"times": [0, 2], "values": [[0, 0, 0], [0, 1, 0]]},
+    "scale": {"times": [0, 2], "values": [1, 2]}}]})"));
+  ASSERT_TRUE(scene.animation.movesGeometry());
+  EXPECT_FALSE(scene.animation.movesLight());
+  EXPECT_NE(scene.animation.describe().find("geometry 'ball'"), std::string::npos) << scene.animation.describe();
+  ASSERT_EQ(scene.meshes.size(), 2u);
+  const vs::Mesh& restBall = scene.meshes[1];
+  Scene at1 = vs::sceneAt(scene, 1.0);  // 90 degrees, 0.5 up, scale 1.5
+  glm::vec3 c = centreOf(at1.meshes[1]);
+  EXPECT_NEAR(c.x, 0.0f, 1e-3f);
+  EXPECT_NEAR(c.y, 1.5f, 1e-3f);
+  EXPECT_NEAR(c.z, -3.0f, 1e-3f);  // (2, 0, 0) from the pivot, turned 90 degrees about +y, scaled 1.5
+  // Rigid with uniform scale: distances grow by the scale, normals stay unit and turn with it.
+  const glm::vec3 a = restBall.positions[0], b = restBall.positions[restBall.positions.size() / 2];
+  const glm::vec3 a1 = at1.meshes[1].positions[0], b1 = at1.meshes[1].positions[restBall.positions.size() / 2];
+  EXPECT_NEAR(glm::length(a1 - b1), 1.5f * glm::length(a - b), 1e-4f);
+  for (const glm::vec3& n : at1.meshes[1].normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+  // The floor does not move; the scene's bounds hold every frame's pose, and are the same in every
+  // still frame (light fits and ranges match between a played and a still frame).
+  EXPECT_EQ(at1.meshes[0].positions, scene.meshes[0].positions);
+  glm::vec3 lo, hi, lo1, hi1;
+  scene.bounds(lo, hi);
+  at1.bounds(lo1, hi1);
+  EXPECT_EQ(lo, lo1);
+  EXPECT_EQ(hi, hi1);
+  for (int i = 0; i < scene.animation.frameCount(); ++i) {
+    Scene frame = vs::sceneAt(scene, scene.animation.timeOf(uint32_t(i)));
+    for (const glm::vec3& p : frame.meshes[1].positions) {
+      EXPECT_TRUE(glm::all(glm::lessThanEqual(lo, p + 1e-4f)) && glm::all(glm::lessThanEqual(p, hi + 1e-4f)))
+          << "frame " << i;
+    }
+  }
+  // By index too, with the pivot at the entry's centre by default.
+  Scene byIndex = parse(movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": 1,
+    "angle_deg": {"times": [0, 1], "values": [0, 90]}}]})"));
+  glm::vec3 still = centreOf(vs::sceneAt(byIndex, 1.0).meshes[1]);
+  EXPECT_NEAR(glm::length(still - glm::vec3(2, 1, 0)), 0.0f, 1e-3f);  // turning about its own centre
+}
+
+TEST(Animation, BadGeometryMotionsAreOneLineErrors) {
+  TempDir dir;
+  const std::string angle = R"("angle_deg": {"times": [0, 1], "values": [0, 90]})";
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": "bal", )" + angle + "}]}")),
+                      {"animation.geometry[0].entry", "'bal'", "ball"});
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": 2, )" + angle + "}]}")),
+                      {"animation.geometry[0].entry"});
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": "ball"}]})")),
+                      {"animation.geometry[0]", "'translate', 'angle_deg' or 'scale'"});
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": "ball", "axis": [0, 0, 0], )" + angle + "}]}")),
+                      {"animation.geometry[0].axis", "zero"});
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": "ball", "scale": {"times": [0], "values": [0]}}]})")),
+                      {"animation.geometry[0].scale.values[0]"});
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": "ball", "spin": 1, )" + angle + "}]}")),
+                      {"animation.geometry[0].spin"});
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 1, "geometry": [{"entry": "ball", )" + angle +
+                                                         R"(}, {"entry": 1, )" + angle + "}]}")),
+                      {"animation.geometry[1].entry", "already has a motion"});
+  // Catmull-Rom through positive keys can dip below zero between them: refused at load, naming the frame.
+  expectErrorMentions(loadError(dir, movingGeometryScene(R"({"duration": 3, "fps": 8, "geometry": [{"entry": "ball",
+    "scale": {"times": [0, 1, 1.5, 3], "values": [1, 0.01, 0.01, 40], "interpolation": "catmull-rom"}}]})")),
+                      {"animation.geometry[0].scale", "not positive", "frame"});
+}
+
+namespace {
+
+// A glTF whose quad (node 1, 1 unit along x from its parent) hangs under node 0, which the
+// animation "Slide" raises 2 units over 2 s (LINEAR) and turns 90 degrees about +y at t = 1 (STEP);
+// a second animation only animates morph weights.
+std::string writeAnimatedGltf(const TempDir& dir, const std::string& interpolation = "LINEAR") {
+  QuadGltf quad;
+  std::vector<unsigned char> bytes = quad.buffer;  // 60 bytes
+  appendRaw(bytes, std::vector<float>{0, 2});                         // 60: translation key times
+  appendRaw(bytes, std::vector<float>{0, 0, 0, 0, 2, 0});             // 68: translations
+  appendRaw(bytes, std::vector<float>{0, 1});                         // 92: rotation key times
+  appendRaw(bytes, std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f});  // 100: rotations
+  const std::string json = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"children": [1]}, {"mesh": 0, "translation": [1, 0, 0]}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64(bytes) + R"(", "byteLength": 132}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12},
+                    {"buffer": 0, "byteOffset": 60, "byteLength": 8}, {"buffer": 0, "byteOffset": 68, "byteLength": 24},
+                    {"buffer": 0, "byteOffset": 92, "byteLength": 8}, {"buffer": 0, "byteOffset": 100, "byteLength": 32}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+      {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"},
+      {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [2]},
+      {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"},
+      {"bufferView": 4, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1]},
+      {"bufferView": 5, "componentType": 5126, "count": 2, "type": "VEC4"}],
+    "animations": [
+      {"name": "Slide", "samplers": [{"input": 2, "output": 3, "interpolation": ")" + interpolation + R"("},
+                                     {"input": 4, "output": 5, "interpolation": "STEP"}],
+       "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}},
+                    {"sampler": 1, "target": {"node": 0, "path": "rotation"}}]},
+      {"name": "Morph", "samplers": [{"input": 2, "output": 3}], "channels": [{"sampler": 0, "target": {"node": 1, "path": "weights"}}]}]})";
+  return dir.write("animated.gltf", json);
+}
+
+std::string gltfMotionScene(const std::string& motion) {
+  return sceneText(R"({"name": "rig", "gltf": "animated.gltf", "translate": [0, 0, 5]},
+    {"name": "ball", "generator": "sphere", "params": {"center": [4, 1, 0], "radius": 0.5}})",
+                   kPointLight, R"("animation": {"duration": 2, "fps": 2, "geometry": [)" + motion + "]}");
+}
+
+}  // namespace
+
+TEST(Animation, GltfNodeAnimationsMoveTheirMeshesThroughTheHierarchy) {
+  TempDir dir;
+  writeAnimatedGltf(dir);
+  Scene scene = vs::loadScene(dir.write("scene.json", gltfMotionScene(R"({"entry": "rig", "gltf_animation": "Slide"})")));
+  ASSERT_TRUE(scene.animation.movesGeometry());
+  EXPECT_NE(scene.animation.describe().find("geometry 'rig' (glTF animation 'Slide')"), std::string::npos)
+      << scene.animation.describe();
+  // The morph-weight channel is left out with a warning naming it.
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("morph-target weights"), std::string::npos) << scene.warnings[0];
+  // Rest pose: the quad 1 unit along x, the entry's placement 5 along z.
+  EXPECT_NEAR(glm::distance(scene.meshes[0].positions[0], glm::vec3(1, 0, 5)), 0.0f, 1e-5f);
+  // t = 0.5: raised 0.5 (linear), not yet turned (step).
+  Scene half = vs::sceneAt(scene, 0.5);
+  EXPECT_NEAR(glm::distance(half.meshes[0].positions[0], glm::vec3(1, 0.5f, 5)), 0.0f, 1e-5f);
+  // t = 1: raised 1, turned 90 degrees about +y: (1, 0, 0) -> (0, 0, -1); the placement after it.
+  Scene one = vs::sceneAt(scene, 1.0);
+  EXPECT_NEAR(glm::distance(one.meshes[0].positions[0], glm::vec3(0, 1, 4)), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::distance(one.meshes[0].positions[1], glm::vec3(0, 1, 3)), 0.0f, 1e-5f);
+  // The quad's normal turns with it; the ball does not move.
+  const glm::vec3 n0 = scene.meshes[0].normals[0];
+  EXPECT_NEAR(glm::distance(one.meshes[0].normals[0], glm::vec3(n0.z, n0.y, -n0.x)), 0.0f, 1e-5f);
+  EXPECT_EQ(one.meshes[1].positions, scene.meshes[1].positions);
+  // By index, and CUBICSPLINE outputs count three values per key.
+  Scene byIndex = vs::loadScene(dir.write("index.json", gltfMotionScene(R"({"entry": 0, "gltf_animation": 0})")));
+  EXPECT_NEAR(glm::distance(vs::sceneAt(byIndex, 2.0).meshes[0].positions[0], glm::vec3(0, 2, 4)), 0.0f, 1e-5f);
+  writeAnimatedGltf(dir, "CUBICSPLINE");
+  expectErrorMentions(loadError(dir, gltfMotionScene(R"({"entry": "rig", "gltf_animation": "Slide"})")),
+                      {"geometry[0].gltf", "animation 0 ('Slide') channel 0", "2 output values for 2 key times", "3 per key"});
+}
+
+TEST(Animation, BadGltfAnimationReferencesAreOneLineErrors) {
+  TempDir dir;
+  writeAnimatedGltf(dir);
+  expectErrorMentions(loadError(dir, gltfMotionScene(R"({"entry": "rig", "gltf_animation": "Slid"})")),
+                      {"animation.geometry[0].gltf_animation", "'Slid'", "Slide"});
+  expectErrorMentions(loadError(dir, gltfMotionScene(R"({"entry": "rig", "gltf_animation": 2})")),
+                      {"animation.geometry[0].gltf_animation"});
+  expectErrorMentions(loadError(dir, gltfMotionScene(R"({"entry": "ball", "gltf_animation": 0})")),
+                      {"animation.geometry[0].gltf_animation", "no glTF animation"});
+  expectErrorMentions(loadError(dir, gltfMotionScene(R"({"entry": "rig", "gltf_animation": 0, "scale": {"times": [0], "values": [2]}})")),
+                      {"animation.geometry[0].scale", "glTF animation or its own tracks"});
 }
