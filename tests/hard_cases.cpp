@@ -218,6 +218,52 @@ std::vector<HardCase> build() {
 }
 }  // namespace
 
+// A track {"times": times, "values": values} with its interpolation.
+json track(json times, json values, const char* interpolation = "linear") {
+  return {{"times", std::move(times)}, {"values", std::move(values)}, {"interpolation", interpolation}};
+}
+
+std::vector<HardCase> buildTemporal() {
+  std::vector<HardCase> cases;
+  auto moving = [](json scene, json animation) {
+    animation["duration"] = 1.0;
+    animation["fps"] = 4.0;
+    scene["animation"] = std::move(animation);
+    return scene;
+  };
+  // The light enters the view through its right border (the camera's half-angle is about 36
+  // degrees horizontally at 4:3): the epipole crosses the screen edge between frames.
+  cases.push_back(make("epipole_crosses_border",
+                       moving(baseScene(), {{"light", {{"position", track({0, 1}, {vec(9, 3, 0), vec(1.5, 3, 0)})}}}})));
+  // The light passes through the box occluder (x in [-1.5, -0.5], y in [0, 1.5]).
+  cases.push_back(make("light_through_occluder",
+                       moving(baseScene(), {{"light", {{"position", track({0, 1}, {vec(-3, 0.75, 0), vec(1, 0.75, 0)})}}}})));
+  // The camera walks from outside a volume into it and on (the box spans z in [1, 4]).
+  json volumeScene = baseScene();
+  volumeScene["volumes"] = json::array({{{"generator", "bucky"}, {"box_min", vec(-2, 0.5, 1)}, {"box_max", vec(2, 2.5, 4)},
+                                         {"sigma_s", 2.0}, {"sigma_a", 0.2}}});
+  cases.push_back(make("camera_crosses_volume_boundary",
+                       moving(volumeScene, {{"camera", {{"position", track({0, 1}, {vec(0, 1.5, 6), vec(0, 1.5, 2.5)})}}}})));
+  // Keys a microsecond apart: a jump, through every interpolation's tangent arithmetic.
+  cases.push_back(make("keys_a_microsecond_apart",
+                       moving(baseScene(), {{"light", {{"position", track({0, 0.5, 0.500001, 1},
+                                                                           {vec(-2, 3, -2), vec(-2, 3, -2), vec(2, 2, -1), vec(2, 2, -1)},
+                                                                           "catmull-rom")}}},
+                                            {"camera", {{"fov_y_deg", track({0, 0.5, 0.500001, 1}, {55, 55, 70, 70}, "step")}}}})));
+  return cases;
+}
+
+const std::vector<HardCase>& temporalHardCases() {
+  static const std::vector<HardCase> cases = buildTemporal();
+  return cases;
+}
+
+const HardCase& temporalHardCase(const std::string& name) {
+  for (const auto& c : temporalHardCases())
+    if (c.name == name) return c;
+  throw std::invalid_argument("no temporal hard case " + name);
+}
+
 const std::vector<HardCase>& hardCases() {
   static const std::vector<HardCase> cases = build();
   return cases;

@@ -89,6 +89,47 @@ TEST_P(StabilityTest, StaysFiniteBoundedAndDeterministic) {
   RecordProperty("ls_relmse", std::to_string(err.relmse));
 }
 
+// Hard cases in time: every frame of the sequence is finite, non-negative, and the same as the
+// scene at its time rendered still (so within the still hard case's bounds), for every method.
+class TemporalStabilityTest : public GlTest,
+                              public ::testing::WithParamInterface<std::tuple<std::string, std::string>> {};
+
+TEST_P(TemporalStabilityTest, EveryFrameIsFiniteAndItsStillFrame) {
+  const auto& [caseName, methodName] = GetParam();
+  Scene scene = sceneFromJson(temporalHardCase(caseName).json);
+  ASSERT_TRUE(scene.animation.moves());
+  auto method = createMethod(methodName);
+  std::string spec = methodName + ":sm=256";
+  std::string unsupported = unsupportedReason(scene, *method, resolveSpec(spec, glLimits()).params);
+  if (!unsupported.empty()) GTEST_SKIP() << unsupported;
+  RunOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.warmup = 0;
+  options.frames = scene.animation.frameCount();
+  options.sequence = true;  // every frame's L_s
+  MethodRun run = renderScene(scene, spec, options);
+  ASSERT_EQ(run.status, RunStatus::Success) << run.reason;
+  ASSERT_EQ(run.sequence.size(), size_t(options.frames));
+  options.frames = 1;
+  options.sequence = false;
+  for (const MethodRun::SequenceFrame& f : run.sequence) {
+    expectFiniteNonNegative(f.inscatter, "L_s");
+    // The still frame at the same frame index (the same jitter).
+    options.warmup = int(f.index);
+    MethodRun still = renderScene(sceneAt(scene, f.timeS), spec, options);
+    ASSERT_EQ(still.status, RunStatus::Success) << still.reason;
+    ErrorMetrics e = compareImages(f.inscatter, still.inscatter);
+    EXPECT_LE(e.relmse, 1e-6) << "frame " << f.index << " (t = " << f.timeS << " s) differs from its still frame";
+  }
+}
+
+std::vector<std::string> temporalCaseNames() {
+  std::vector<std::string> names;
+  for (const auto& c : temporalHardCases()) names.push_back(c.name);
+  return names;
+}
+
 // A seeded slice of the randomized stress (vshadow_stress runs >= 10,000 per method).
 class StressSliceTest : public GlTest, public ::testing::WithParamInterface<std::string> {};
 
@@ -207,6 +248,15 @@ TEST_F(StressShardTest, PrintedConfigurationRendersAsTheStressedOne) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, StressSliceTest, ::testing::ValuesIn(methodNames()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+INSTANTIATE_TEST_SUITE_P(TemporalHardCases, TemporalStabilityTest,
+                         ::testing::Combine(::testing::ValuesIn(temporalCaseNames()), ::testing::ValuesIn(methodNames())),
+                         [](const ::testing::TestParamInfo<TemporalStabilityTest::ParamType>& info) {
+                           std::string name = std::get<0>(info.param) + "__" + std::get<1>(info.param);
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
 
 INSTANTIATE_TEST_SUITE_P(HardCases, StabilityTest,
                          ::testing::Combine(::testing::ValuesIn(caseNames()), ::testing::ValuesIn(methodNames())),
