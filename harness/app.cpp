@@ -600,6 +600,16 @@ class ResultFiles {
   fs::path imageDir_;
 };
 
+// How the exact-visibility ground truth of a run is rendered (every frame's alike).
+GroundTruthOptions groundTruthOptions(const RunRequest& req, const RunPlan& plan, const RunOptions& options) {
+  GroundTruthOptions gt;
+  gt.width = plan.width;
+  gt.height = plan.height;
+  gt.steps = req.exactSteps;
+  gt.seed = options.seed;
+  return gt;
+}
+
 // The reference (cached ray march or the ground truth) and, with --exact, the ground truth.
 Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl::Limits& limits,
                            const MethodRegistry& registry, const RunOptions& options, Progress& progress, int& item,
@@ -607,12 +617,8 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
   Baselines base;
   if (plan.haveExact) {
     progress.item(item, "exact-visibility ground truth");
-    GroundTruthOptions gt;
-    gt.width = plan.width;
-    gt.height = plan.height;
-    gt.steps = req.exactSteps;
-    gt.seed = options.seed;
-    base.exact = obtainGroundTruth(plan.stillScene, gt, req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir,
+    base.exact = obtainGroundTruth(plan.stillScene, groundTruthOptions(req, plan, options),
+                                   req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir,
                                    [&](int done, int total) { progress.frames(done, total); });
     progress.finished((base.exact.fromCache ? std::string("from cache")
                                             : "computed in " + num(base.exact.computeMs / 1000.0) + " s") +
@@ -850,7 +856,7 @@ class Measurement {
   Measurement(const RowContext& rows, const MethodRegistry& registry, const gl::Limits& limits,
               const RunOptions& options, ResultFiles& files, Progress& progress)
       : rows_(rows), registry_(registry), limits_(limits), files_(files), progress_(progress), options_(options),
-        sequence_(rows.plan.scene.animation.moves() && rows.plan.haveReference && !rows.plan.exactReference),
+        sequence_(rows.plan.scene.animation.moves() && rows.plan.haveReference),
         runner_(rows.plan.scene, limits, sequenceOptions(options, sequence_)),
         guard_([this] { return probe().measure(); },
                DriftPolicy{rows.req.driftThresholdPct, rows.req.driftRetries, rows.req.driftThresholdPct > 0.0}),
@@ -959,17 +965,24 @@ class Measurement {
     files_.addFrames(r, errors, rows_.plan.scene.name, rows_.timer, rows_.renderer);
     r.sequence.clear();  // measured: the images are not kept
   }
-  // The reference's L_s for the scene at frame `index`'s time (cached on disk per time).
+  // The reference's L_s for the scene at frame `index`'s time (cached on disk per time): the ray
+  // march, or with --reference exact the exact-visibility ground truth of that time.
   const Image& referenceAt(uint32_t index) {
     const RunPlan& plan = rows_.plan;
     const double t = plan.scene.animation.timeOf(index);
     auto it = frameReferences_.find(t);
     if (it != frameReferences_.end()) return it->second;
     if (t == plan.scene.animation.timeOf(plan.comparedFrame)) return frameReferences_[t] = rows_.base.reference.inscatter;
+    const std::string cacheDir = rows_.req.cacheDir.empty() ? defaultCacheDir() : rows_.req.cacheDir;
+    if (plan.exactReference) {
+      progress_.note("ground truth of frame " + std::to_string(index) + " (t = " + num(t) + " s)");
+      GroundTruth truth =
+          obtainGroundTruth(sceneAt(plan.scene, t), groundTruthOptions(rows_.req, plan, options_), cacheDir, {});
+      return frameReferences_[t] = std::move(truth.inscatter);
+    }
     progress_.note("reference of frame " + std::to_string(index) + " (t = " + num(t) + " s)");
-    Reference ref = obtainReference(sceneAt(plan.scene, t), limits_, options_, rows_.base.referenceShadowMap,
-                                    rows_.req.cacheDir.empty() ? defaultCacheDir() : rows_.req.cacheDir, registry_,
-                                    rows_.req.referenceSpec);
+    Reference ref = obtainReference(sceneAt(plan.scene, t), limits_, options_, rows_.base.referenceShadowMap, cacheDir,
+                                    registry_, rows_.req.referenceSpec);
     return frameReferences_[t] = std::move(ref.inscatter);
   }
 

@@ -54,7 +54,7 @@ struct Input {
   size_t argIndex = 0;
   std::string status, reason;  // finished | failed | running | ...
   json meta;
-  Table runs, passes;
+  Table runs, passes, frames;  // frames: moving scenes only
   std::string host;
 };
 
@@ -74,6 +74,25 @@ std::string metaString(const json& meta, const std::string& key) {
 void addColumns(std::vector<std::string>& columns, const std::vector<std::string>& more) {
   for (const auto& c : more)
     if (std::find(columns.begin(), columns.end(), c) == columns.end()) columns.push_back(c);
+}
+
+// The rows of a per-row table (passes.csv, frames.csv) in `columns`, each tagged with where it
+// comes from: the input's size, seed, host and shard.
+void appendTaggedRows(const Table& table, const std::vector<std::string>& columns, const Input& in,
+                      const std::string& width, const std::string& height, const std::string& seed,
+                      std::vector<std::vector<std::string>>& out) {
+  for (size_t r = 0; r < table.rows.size(); ++r) {
+    std::vector<std::string> row;
+    for (const auto& c : columns) {
+      if (c == "seed") row.push_back(seed);
+      else if (c == "host") row.push_back(in.host);
+      else if (c == "shard") row.push_back(in.id);
+      else if (c == "width") row.push_back(width);
+      else if (c == "height") row.push_back(height);
+      else row.push_back(table.get(r, c));
+    }
+    out.push_back(std::move(row));
+  }
 }
 
 int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
@@ -175,6 +194,7 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
     if (in.status == "finished") {
       in.runs = readTable(in.dir + "/runs.csv");
       if (fs::exists(in.dir + "/passes.csv")) in.passes = readTable(in.dir + "/passes.csv");
+      if (fs::exists(in.dir + "/frames.csv")) in.frames = readTable(in.dir + "/frames.csv");
     }
   }
   std::stable_sort(inputs.begin(), inputs.end(), [](const Input& a, const Input& b) {
@@ -183,17 +203,21 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
   });
 
   // Columns: this build's, any a folder adds, then where each row comes from.
-  std::vector<std::string> runCols = runsColumns(), passCols = passesColumns();
+  std::vector<std::string> runCols = runsColumns(), passCols = passesColumns(), frameCols = framesColumns();
+  bool anyFrames = false;
   for (const Input& in : inputs) {
     if (in.status != "finished") continue;
     addColumns(runCols, in.runs.header);
     addColumns(passCols, in.passes.header);
+    addColumns(frameCols, in.frames.header);
+    anyFrames = anyFrames || !in.frames.header.empty();
   }
   addColumns(runCols, {"seed", "host", "shard"});
   addColumns(passCols, {"width", "height", "seed", "host", "shard"});
+  addColumns(frameCols, {"width", "height", "seed", "host", "shard"});
 
   // Rows, checked: no row twice; one renderer per scene, size and seed unless allowed.
-  std::vector<std::vector<std::string>> runRows, passRows;
+  std::vector<std::vector<std::string>> runRows, passRows, frameRows;
   std::map<std::string, std::string> rowOwner;
   std::map<std::string, std::map<std::string, std::string>> renderersByGroup;  // group -> renderer -> shard
   std::set<std::string> renderers, hosts;
@@ -236,18 +260,8 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
       if (in.runs.get(r, "status") == "Failure") ++failureRows;
       runRows.push_back(std::move(row));
     }
-    for (size_t r = 0; r < in.passes.rows.size(); ++r) {
-      std::vector<std::string> row;
-      for (const auto& c : passCols) {
-        if (c == "seed") row.push_back(seed);
-        else if (c == "host") row.push_back(in.host);
-        else if (c == "shard") row.push_back(in.id);
-        else if (c == "width") row.push_back(width);
-        else if (c == "height") row.push_back(height);
-        else row.push_back(in.passes.get(r, c));
-      }
-      passRows.push_back(std::move(row));
-    }
+    appendTaggedRows(in.passes, passCols, in, width, height, seed, passRows);
+    appendTaggedRows(in.frames, frameCols, in, width, height, seed, frameRows);
     entry["rows"] = in.runs.rows.size();
     entry["failure_rows"] = failureRows;
     entry["renderer"] = in.meta.contains("gl") ? in.meta["gl"].value("renderer", "") : "";
@@ -295,6 +309,11 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
                {"mixed_renderers", mixed}};
   writeFileAtomic(req.out + "/runs.csv", runsText);
   writeFileAtomic(req.out + "/passes.csv", passesText);
+  if (anyFrames) {
+    std::string framesText = CsvTable::format(frameCols);
+    for (const auto& row : frameRows) framesText += CsvTable::format(row);
+    writeFileAtomic(req.out + "/frames.csv", framesText);
+  }
   writeFileAtomic(req.out + "/meta.json", meta.dump(2) + "\n");
 
   for (const auto& id : missing) std::fprintf(stderr, "vshadow merge: missing shard %s\n", id.c_str());

@@ -38,6 +38,8 @@ TEST(CliTest, ListShowsScenesMethodsAndParameters) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
   // Which scenes move, and how.
   EXPECT_NE(r.out.find("moves: 2 s at 12 fps (25 frames): light direction"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("moves: 2 s at 12 fps (25 frames): geometry 'torus_tilted', geometry 'knot_left'"),
+            std::string::npos) << r.out;
   // raymarch's two brute-force series on point and spot lights.
   EXPECT_NE(r.out.find("shootout ladder (equiangular, point and spot lights): steps=8:sampling=equiangular"),
             std::string::npos);
@@ -193,15 +195,43 @@ TEST(CliTest, MovingSceneRecordsItsComparedFrameAndRefitsInTheFrame) {
     EXPECT_GT(std::stod(field(frames, f, "frame_ms")), 0.0);
     EXPECT_NE(field(frames, f, "pass_ms").find("G Buffer="), std::string::npos);
     // The last frame is the compared one: its error is the row's.
-    if (frame == "3")
-      for (const auto& row : runs.rows())
-        if (field(runs, row, "method") == field(frames, f, "method") && field(runs, row, "params") == field(frames, f, "params"))
-          EXPECT_EQ(field(frames, f, "ls_rmse"), field(runs, row, "ls_rmse"));
+    if (frame != "3") continue;
+    for (const auto& row : runs.rows()) {
+      if (field(runs, row, "method") == field(frames, f, "method") && field(runs, row, "params") == field(frames, f, "params")) {
+        EXPECT_EQ(field(frames, f, "ls_rmse"), field(runs, row, "ls_rmse"));
+      }
+    }
   }
   // Error and frame time over time, as a picture.
   std::string cmd = std::string(VS_SOURCE_DIR) + "/scripts/plot-sequence " + dir + "/out -o " + dir +
                     "/sequence.png > " + dir + "/plot.log 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/plot.log");
+
+  // `vshadow merge` keeps the frames, tagged with where they come from.
+  CommandResult merged = runVshadow({"merge", dir + "/out", "--out", dir + "/merged"});
+  ASSERT_EQ(merged.exitCode, 0) << merged.err;
+  std::vector<std::string> taggedFrames = framesColumns();
+  for (const char* c : {"width", "height", "seed", "host", "shard"}) taggedFrames.push_back(c);
+  CsvTable mergedFrames = loadCsv(dir + "/merged/frames.csv", taggedFrames, kFramesKeyColumns);
+  EXPECT_EQ(mergedFrames.rows().size(), frames.rows().size());
+  EXPECT_EQ(field(mergedFrames, mergedFrames.rows().front(), "width"), "32");
+
+  // Against the exact ground truth, every measured frame is compared with the ground truth of its
+  // own time; the last one's is the row's error.
+  CommandResult exact = runVshadow({"run", "--scene", "sunsweep", "--size", "24x18", "--frames", "2", "--warmup", "1",
+                                    "--method", "minmax", "--reference", "exact", "--exact-steps", "64", "--no-images",
+                                    "--out", dir + "/exact", "--cache", dir + "/cache"});
+  ASSERT_EQ(exact.exitCode, 0) << exact.err;
+  CsvTable exactRuns = loadCsv(dir + "/exact/runs.csv", runsColumns(), kRunsKeyColumns);
+  ASSERT_EQ(exactRuns.rows().size(), 1u);
+  EXPECT_EQ(field(exactRuns, exactRuns.rows()[0], "seq_frames"), "2");
+  CsvTable exactFrames = loadCsv(dir + "/exact/frames.csv", framesColumns(), kFramesKeyColumns);
+  ASSERT_EQ(exactFrames.rows().size(), 2u);
+  for (const auto& f : exactFrames.rows()) {
+    if (field(exactFrames, f, "frame") == "2") {
+      EXPECT_EQ(field(exactFrames, f, "ls_rmse"), field(exactRuns, exactRuns.rows()[0], "ls_rmse"));
+    }
+  }
   EXPECT_GT(fs::file_size(dir + "/sequence.png"), 1000u);
 }
 
