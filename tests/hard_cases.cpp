@@ -216,8 +216,6 @@ std::vector<HardCase> build() {
   cases.push_back(make("area_light_touching_occluder", s));
   return cases;
 }
-}  // namespace
-
 // A track {"times": times, "values": values} with its interpolation.
 json track(json times, json values, const char* interpolation = "linear") {
   return {{"times", std::move(times)}, {"values", std::move(values)}, {"interpolation", interpolation}};
@@ -253,26 +251,25 @@ std::vector<HardCase> buildTemporal() {
   return cases;
 }
 
+const HardCase& find(const std::vector<HardCase>& cases, const std::string& name) {
+  for (const auto& c : cases)
+    if (c.name == name) return c;
+  throw std::invalid_argument("no hard case " + name);
+}
+}  // namespace
+
 const std::vector<HardCase>& temporalHardCases() {
   static const std::vector<HardCase> cases = buildTemporal();
   return cases;
 }
 
-const HardCase& temporalHardCase(const std::string& name) {
-  for (const auto& c : temporalHardCases())
-    if (c.name == name) return c;
-  throw std::invalid_argument("no temporal hard case " + name);
-}
+const HardCase& temporalHardCase(const std::string& name) { return find(temporalHardCases(), name); }
 
 const std::vector<HardCase>& hardCases() {
   static const std::vector<HardCase> cases = build();
   return cases;
 }
 
-const HardCase& hardCase(const std::string& name) {
-  for (const auto& c : hardCases())
-    if (c.name == name) return c;
-  throw std::invalid_argument("no hard case " + name);
-}
+const HardCase& hardCase(const std::string& name) { return find(hardCases(), name); }
 
 }  // namespace vs::testing

@@ -249,23 +249,21 @@ TEST_F(StressShardTest, PrintedConfigurationRendersAsTheStressedOne) {
 INSTANTIATE_TEST_SUITE_P(Methods, StressSliceTest, ::testing::ValuesIn(methodNames()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
+// "case__method", with every character a test name cannot hold as '_'.
+std::string caseAndMethodName(const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& info) {
+  std::string name = std::get<0>(info.param) + "__" + std::get<1>(info.param);
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
 INSTANTIATE_TEST_SUITE_P(TemporalHardCases, TemporalStabilityTest,
                          ::testing::Combine(::testing::ValuesIn(temporalCaseNames()), ::testing::ValuesIn(methodNames())),
-                         [](const ::testing::TestParamInfo<TemporalStabilityTest::ParamType>& info) {
-                           std::string name = std::get<0>(info.param) + "__" + std::get<1>(info.param);
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+                         caseAndMethodName);
 
 INSTANTIATE_TEST_SUITE_P(HardCases, StabilityTest,
                          ::testing::Combine(::testing::ValuesIn(caseNames()), ::testing::ValuesIn(methodNames())),
-                         [](const ::testing::TestParamInfo<StabilityTest::ParamType>& info) {
-                           std::string name = std::get<0>(info.param) + "__" + std::get<1>(info.param);
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+                         caseAndMethodName);
 
 }  // namespace
 }  // namespace vs::testing
