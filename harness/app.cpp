@@ -112,8 +112,8 @@ int listCommand(const MethodRegistry& registry) {
     std::printf("  %s  %s\n", m->name().c_str(), m->description().c_str());
     std::printf("    supports: %s\n", m->capabilities().describe().c_str());
     for (const auto& p : allParams(*m, 16384))
-      std::printf("    %-12s default %-8s %-24s %s\n", p.name.c_str(), p.defaultValue.c_str(), p.rangeText().c_str(),
-                  p.description.c_str());
+      std::printf("    %-12s default %-8s %-24s %s%s\n", p.name.c_str(), p.defaultValue.c_str(), p.rangeText().c_str(),
+                  p.description.c_str(), p.speedOnly ? " (speed only: the image is the same)" : "");
     // The ladder of a point-light scene (a method may add series for some lights).
     Effects pointLight;
     pointLight.scattering = true;

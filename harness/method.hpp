@@ -1,5 +1,5 @@
 // The one interface every volumetric-shadow method implements. The harness knows methods only
-// through this header and the registry (methods/registry.cpp); it never names one.
+// through this header and the registry (methods/registry.hpp); it never names one.
 #pragma once
 #include <functional>
 #include <map>

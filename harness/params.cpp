@@ -137,10 +137,16 @@ static const std::string& lookup(const std::map<std::string, std::string>& m, co
   return it->second;
 }
 
-int ParamValues::getInt(const std::string& key) const { return std::stoi(lookup(values_, key)); }
-double ParamValues::getFloat(const std::string& key) const { return std::stod(lookup(values_, key)); }
-bool ParamValues::getBool(const std::string& key) const { return lookup(values_, key) == "1"; }
-const std::string& ParamValues::getString(const std::string& key) const { return lookup(values_, key); }
+int ParamValues::getInt(const std::string& key) const { return std::stoi(read(key)); }
+double ParamValues::getFloat(const std::string& key) const { return std::stod(read(key)); }
+bool ParamValues::getBool(const std::string& key) const { return read(key) == "1"; }
+const std::string& ParamValues::getString(const std::string& key) const { return read(key); }
+
+const std::string& ParamValues::read(const std::string& key) const {
+  const std::string& value = lookup(values_, key);
+  reads_->insert(key);
+  return value;
+}
 
 std::string ParamValues::canonical() const {
   std::string s;

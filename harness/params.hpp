@@ -1,6 +1,8 @@
 // Method parameters: declarations, spec strings `name:key=value:key=value`, validation.
 #pragma once
 #include <map>
+#include <memory>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,6 +23,9 @@ struct ParamSpec {
   std::vector<std::string> choices;  // Choice
   std::string description;
   bool powerOfTwo = false;           // Int values must be powers of two
+  // The value changes how the image is computed (speed, memory, order of work), never the image;
+  // the conformance test holds both ways (tests/conformance_tests.cpp).
+  bool speedOnly = false;
 
   static ParamSpec integer(std::string name, int def, int min, int max, std::string description);
   static ParamSpec real(std::string name, double def, double min, double max, std::string description);
@@ -28,6 +33,10 @@ struct ParamSpec {
   static ParamSpec choice(std::string name, std::string def, std::vector<std::string> choices, std::string description);
   ParamSpec& pow2() {
     powerOfTwo = true;
+    return *this;
+  }
+  ParamSpec& sameImage() {
+    speedOnly = true;
     return *this;
   }
   std::string rangeText() const;  // "16..8192 (power of two)", "0|1", "a|b|c"
@@ -49,10 +58,15 @@ class ParamValues {
   // across runs, so it keys result rows and caches.
   std::string canonical() const;
   const std::vector<std::pair<std::string, std::string>>& items() const { return ordered_; }
+  // The keys read through get*() so far, by this object or any copy of it (copies share the log):
+  // the conformance test checks that a method reads every parameter it declares.
+  const std::set<std::string>& keysRead() const { return *reads_; }
 
  private:
+  const std::string& read(const std::string& key) const;
   std::map<std::string, std::string> values_;
   std::vector<std::pair<std::string, std::string>> ordered_;
+  std::shared_ptr<std::set<std::string>> reads_ = std::make_shared<std::set<std::string>>();
 };
 
 struct MethodSpec {

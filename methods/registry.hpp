@@ -12,8 +12,20 @@
 
 namespace vs {
 
-// Defined in registry.cpp: one line per method.
+// Every method linked into the program, in listing order (the order of `vshadow list`, of the
+// default shootout's rows and of the stress). A method adds itself from its own .cpp:
+//   VS_REGISTER_METHOD(MyMethod, 70);
+// the number is its listing position (raymarch, the reference, is 0; the papers' methods follow in
+// tens). Programs link vs_methods, which keeps every method's object file although nothing calls
+// into it by name (methods/CMakeLists.txt).
 const MethodRegistry& registeredMethods();
+
+struct MethodRegistration {
+  MethodRegistration(int position, std::function<std::unique_ptr<Method>()> create);
+};
+#define VS_REGISTER_METHOD(Type, position)                 \
+  static const ::vs::MethodRegistration vsRegistration##Type( \
+      position, [] { return std::unique_ptr<::vs::Method>(std::make_unique<Type>()); })
 
 inline std::unique_ptr<Method> createMethod(const std::string& name) { return createMethod(registeredMethods(), name); }
 inline ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits) {

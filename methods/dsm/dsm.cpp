@@ -1,4 +1,5 @@
 #include "dsm.hpp"
+#include "registry.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -374,5 +375,7 @@ std::map<std::string, double> DsmMethod::stats(const std::map<std::string, Timin
     out["dsm_voxel_samples_per_s"] = samples / (it->second.medianMs * 1e-3);
   return out;
 }
+
+VS_REGISTER_METHOD(DsmMethod, 30);
 
 }  // namespace vs

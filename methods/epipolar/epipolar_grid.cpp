@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 namespace vs {
-namespace vsv {
+namespace epipolar {
 
 static constexpr double kPi = 3.14159265358979323846;
 
@@ -151,6 +151,6 @@ void Scan::run(GLuint texture, int nAlpha, int nTheta, int layers) const {
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
 }
 
-}  // namespace vsv
+}  // namespace epipolar
 
 }  // namespace vs

@@ -10,7 +10,7 @@
 #include "harness/gl.hpp"
 
 namespace vs {
-namespace vsv {
+namespace epipolar {
 
 // Epipolar frame (§2.1): axis from the eye towards the light, θ the angle of the epipolar half-plane
 // around it, α the angle at the eye from the axis, φ the angle at the light from the light-to-eye
@@ -90,6 +90,6 @@ class Scan {
   gl::Program program_;
 };
 
-}  // namespace vsv
+}  // namespace epipolar
 
 }  // namespace vs

@@ -1,4 +1,5 @@
 #include "ivsv.hpp"
+#include "registry.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -159,7 +160,7 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   grids_ = gl::Texture(id);
   glTextureStorage3D(id, 1, GL_RGBA32UI, grid_, grid_, count_);
   gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
-  scan_ = std::make_unique<vsv::Scan>();
+  scan_ = std::make_unique<epipolar::Scan>();
 
   voxelizeRows_ = std::clamp(1024 / grid_, 1, 8);  // 16 KiB of shared words per workgroup
   const std::string defines = sceneDefines(context.effects) + "#define IVSV_GRID " + std::to_string(grid_) +
@@ -181,7 +182,7 @@ void IvsvMethod::sampleLights(const Frame& frame, PassTimer& timer) {
   glm::dvec3 eye(frame.scene.camera.position), forward(frame.uniforms.cameraForward);
   std::vector<VplGpu> gpu(static_cast<size_t>(count_));
   for (int k = 0; k < count_; ++k) {
-    vsv::EpipolarBasis b = vsv::makeBasis(eye, glm::dvec3(positions_[size_t(k)]), forward, double(minDistance_));
+    epipolar::EpipolarBasis b = epipolar::makeBasis(eye, glm::dvec3(positions_[size_t(k)]), forward, double(minDistance_));
     gpu[size_t(k)] = {glm::vec4(glm::vec3(b.light), 1.0f), glm::vec4(glm::vec3(b.axis), float(b.distance)),
                       glm::vec4(glm::vec3(b.e1), 0.0f), glm::vec4(glm::vec3(b.e2), 0.0f)};
   }
@@ -287,5 +288,7 @@ std::vector<DebugView> IvsvMethod::debugViews() const {
   return {{"ISM atlas (distance / far)", ism_.id(), DebugView::Kind::Value, 1, pullPushLevels_ + 1, 1, 0.0f, 1.0f},
           {"VPL 0 grid (phi slices)", grids_.id(), DebugView::Kind::Bits, kPhiBits}};
 }
+
+VS_REGISTER_METHOD(IvsvMethod, 50);
 
 }  // namespace vs

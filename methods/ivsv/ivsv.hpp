@@ -76,7 +76,7 @@ class IvsvMethod : public Method {
   gl::Buffer points_, lights_, ubo_;
   gl::Texture ism_, splats_, grids_;  // ISM levels (R32F, 0 = hole), the splat target (R32UI bits)
   gl::Program splat_, resolve_, pullPush_, voxelize_, gather_;
-  std::unique_ptr<vsv::Scan> scan_;
+  std::unique_ptr<epipolar::Scan> scan_;
   int lightsPerGatherPass_ = 1;
   int voxelizeRows_ = 1;  // theta rows per Voxelize workgroup
   GLsizei pointsTotal_ = 0;

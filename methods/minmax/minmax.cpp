@@ -1,4 +1,5 @@
 #include "minmax.hpp"
+#include "registry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -76,9 +77,9 @@ std::vector<ParamSpec> MinmaxMethod::params() const {
       ParamSpec::integer("tex_res", 256, 16, 4096, "gamma samples of the per-slice light-texture prefix sums"),
       ParamSpec::real("epipole_radius", 8.0, 0.0, 100000.0, "pixels around the epipole that are ray marched"),
       ParamSpec::integer("epipole_steps", 256, 1, 16384, "ray-march steps near the epipole"),
-      ParamSpec::flag("up_one_level", true, "traversal climbs at most one level per step (paper 3.5)"),
+      ParamSpec::flag("up_one_level", true, "traversal climbs at most one level per step (paper 3.5)").sameImage(),
       ParamSpec::flag("delay_gamma", true, "evaluate prefix sums once per lit run, not per lit node (paper 3.5)"),
-      ParamSpec::flag("top_start", true, "traversal starts at the largest node at the ray's start (the root), not its leaf"),
+      ParamSpec::flag("top_start", true, "traversal starts at the largest node at the ray's start (the root), not its leaf").sameImage(),
   };
 }
 
@@ -290,5 +291,7 @@ std::map<std::string, double> MinmaxMethod::stats(const std::map<std::string, Ti
           {"svd_energy_kept", energy_},
           {"auto_slices", double(epipolar_.autoSlices)}};
 }
+
+VS_REGISTER_METHOD(MinmaxMethod, 10);
 
 }  // namespace vs

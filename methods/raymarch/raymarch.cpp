@@ -1,4 +1,5 @@
 #include "raymarch.hpp"
+#include "registry.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -231,5 +232,7 @@ std::map<std::string, double> RaymarchMethod::stats(const std::map<std::string, 
           {"shadow_map_samples_per_s", samples / (it->second.medianMs * 1e-3)},
           {"passes_per_frame", double(passes_)}};
 }
+
+VS_REGISTER_METHOD(RaymarchMethod, 0);
 
 }  // namespace vs

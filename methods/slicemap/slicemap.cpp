@@ -1,4 +1,5 @@
 #include "slicemap.hpp"
+#include "registry.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -125,7 +126,8 @@ std::vector<ParamSpec> SlicemapMethod::params() const {
                             "opaque occluders: voxelized as a class of their own (transmittance 0), or in the shared shadow "
                             "map tested first (the paper's transmittance shadow maps)"),
           ParamSpec::choice("lookup", "scan", {"scan", "prefix"},
-                            "bits in front: scan every word (the paper), or per-word prefix counts built once per frame (two fetches)"),
+                            "bits in front: scan every word (the paper), or per-word prefix counts built once per frame (two fetches)")
+              .sameImage(),
           ParamSpec::flag("pack", true,
                           "colour classes share the targets' words (4 x targets / classes words each), so that one fetch "
                           "serves every class"),
@@ -435,5 +437,7 @@ std::map<std::string, double> SlicemapMethod::stats(const std::map<std::string, 
   }
   return out;
 }
+
+VS_REGISTER_METHOD(SlicemapMethod, 40);
 
 }  // namespace vs

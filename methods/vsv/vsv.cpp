@@ -1,4 +1,5 @@
 #include "vsv.hpp"
+#include "registry.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -42,7 +43,8 @@ std::vector<ParamSpec> VsvMethod::params() const {
           ParamSpec::integer("phi", 256, 128, 1024, "N_phi: bits per column (light angle), 128 per render target").pow2(),
           ParamSpec::choice("vox", "sm", {"sm", "geom"}, "voxelizer: resample the shadow map or rasterize triangles"),
           ParamSpec::flag("fused", true,
-                          "vox=sm: one compute pass writes the scanned words (no points, logic op or Scan VSV); 0 = the paper's points, then Scan VSV"),
+                          "vox=sm: one compute pass writes the scanned words (no points, logic op or Scan VSV); 0 = the paper's points, then Scan VSV")
+              .sameImage(),
           ParamSpec::flag("ranges", true, "dynamic angular ranges: alpha_max from the pixels, phi_max from visible geometry"),
           ParamSpec::integer("coarse", 4, 1, 64, "phi bins per light evaluation when the light is textured"),
           ParamSpec::choice("group", "auto", {"auto", "8", "16", "32", "64", "128"},
@@ -96,12 +98,12 @@ void VsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   boundsLo_ = context.geometry.boundsLo;
   boundsHi_ = context.geometry.boundsHi;
 
-  voxels_ = std::make_unique<vsv::VoxelBuffer>(size_);
+  voxels_ = std::make_unique<epipolar::VoxelBuffer>(size_);
   GLuint vao = 0;
   glCreateVertexArrays(1, &vao);
   emptyVao_ = gl::VertexArray(vao);
-  scan_ = std::make_unique<vsv::Scan>();
-  gridUbo_ = gl::createBuffer(sizeof(vsv::GridUniforms));
+  scan_ = std::make_unique<epipolar::Scan>();
+  gridUbo_ = gl::createBuffer(sizeof(epipolar::GridUniforms));
   rangesSsbo_ = gl::createBuffer(2 * sizeof(uint32_t));
   const uint32_t noRanges[4] = {0, 0, 0, 0};  // read, but unused, with ranges=0
   rangesUbo_ = gl::createBuffer(sizeof(noRanges), noRanges);
@@ -135,16 +137,16 @@ void VsvMethod::updateGrid(const Frame& frame) {
   // Light at or near the eye (§4.2): the grid's light stays at least the camera's near distance
   // away, where L_s (an integral of 1/s^2 from the eye) would otherwise have no bound.
   double minDistance = std::max(1e-4 * double(sceneRadius_), double(cam.nearZ));
-  vsv::EpipolarBasis basis;
+  epipolar::EpipolarBasis basis;
   if (frame.scene.light.type == LightType::Directional) {
-    basis = vsv::makeDirectionalBasis(eye, glm::dvec3(frame.uniforms.lightDir), 1.0);
+    basis = epipolar::makeDirectionalBasis(eye, glm::dvec3(frame.uniforms.lightDir), 1.0);
     // Occluders lie inside the scene bounds: their distance from the axis bounds the φ range.
-    double reach = vsv::sceneAxisDistance(eye, basis.axis, glm::dvec3(boundsLo_), glm::dvec3(boundsHi_));
+    double reach = epipolar::sceneAxisDistance(eye, basis.axis, glm::dvec3(boundsLo_), glm::dvec3(boundsHi_));
     basis.phiRange = std::isfinite(reach) ? std::max(reach, 1e-4 * double(sceneRadius_)) : 2.0 * double(sceneRadius_);
   } else {
-    basis = vsv::makeBasis(eye, light, forward, minDistance);
+    basis = epipolar::makeBasis(eye, light, forward, minDistance);
   }
-  vsv::GridUniforms g = vsv::makeGridUniforms(basis, size_, dynamicRanges_);
+  epipolar::GridUniforms g = epipolar::makeGridUniforms(basis, size_, dynamicRanges_);
   glNamedBufferSubData(gridUbo_.id(), 0, sizeof(g), &g);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, gridUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, rangesSsbo_.id());
@@ -165,7 +167,7 @@ void VsvMethod::computeRanges(const Frame& frame, PassTimer& timer) {
 }
 
 // Both voxelizers OR fragments into every layer of the voxel buffer.
-static void beginOrTargets(const vsv::VoxelBuffer& voxels) {
+static void beginOrTargets(const epipolar::VoxelBuffer& voxels) {
   voxels.clear();
   glBindFramebuffer(GL_FRAMEBUFFER, voxels.framebuffer());
   glViewport(0, 0, voxels.size().nAlpha, voxels.size().nTheta);
@@ -285,5 +287,7 @@ std::map<std::string, double> VsvMethod::stats(const std::map<std::string, Timin
     out["pixels_per_s"] = double(width_) * height_ / (it->second.medianMs * 1e-3);
   return out;
 }
+
+VS_REGISTER_METHOD(VsvMethod, 20);
 
 }  // namespace vs

@@ -45,7 +45,7 @@ class VsvMethod : public Method {
   void integrate(const Frame& frame, PassTimer& timer);
   void shadeSurfaces(const Frame& frame, PassTimer& timer);
 
-  vsv::GridSize size_;
+  epipolar::GridSize size_;
   int rowWords_ = 0;  // fused voxelizer: shared words per theta row
   int rowsPerGroup_ = 1;  // fused voxelizer: theta rows per workgroup
   bool fromGeometry_ = false, fused_ = true, dynamicRanges_ = true, surfaceShadows_ = false;
@@ -54,8 +54,8 @@ class VsvMethod : public Method {
   glm::vec3 boundsLo_{0}, boundsHi_{0};
   float sceneRadius_ = 1.0f;
   int width_ = 0, height_ = 0;
-  std::unique_ptr<vsv::VoxelBuffer> voxels_;
-  std::unique_ptr<vsv::Scan> scan_;
+  std::unique_ptr<epipolar::VoxelBuffer> voxels_;
+  std::unique_ptr<epipolar::Scan> scan_;
   gl::Buffer gridUbo_, rangesSsbo_, rangesUbo_;  // rangesUbo_: the passes' copy of the ranges
   gl::VertexArray emptyVao_;
   gl::Program rangesProgram_, fromSmProgram_, fusedProgram_, geometryProgram_, inscatterProgram_, surfaceProgram_;

@@ -1,5 +1,5 @@
 // The epipolar frame of a VSV grid (Wyman 2011, §2.1), shared by vsv (one grid) and ivsv (one grid
-// per virtual point light). Mirrors vs::vsv::EpipolarBasis and toEpipolar in epipolar_grid.cpp.
+// per virtual point light). Mirrors vs::epipolar::EpipolarBasis and toEpipolar in epipolar_grid.cpp.
 // Axis from the eye towards the light; θ the angle of the epipolar half-plane around it (0 along
 // e1); α the angle at the eye from the axis; φ the angle at the light from the light-to-eye
 // direction, or, for a directional light (parallel), the distance from the axis.

@@ -1,5 +1,5 @@
 // Epipolar space of the VSV grid (Wyman 2011, §2.1) and the voxel-buffer layout (§2.2).
-// Mirrors vs::vsv::GridUniforms and the CPU functions in methods/epipolar/epipolar_grid.cpp.
+// Mirrors vs::epipolar::GridUniforms and the CPU functions in methods/epipolar/epipolar_grid.cpp.
 #include "methods/epipolar/shaders/epipolar_frame.glsl"
 // Directional light: the axis points towards the light at infinity, light rays are the lines
 // parallel to it, and the third coordinate ("φ") is the distance from the axis instead of an angle.

@@ -18,8 +18,8 @@ class VsvTest : public GlTest {};
 
 // ---- the scan
 
-void checkScanMatchesCpu(const vsv::GridSize& size, uint32_t seed) {
-  vsv::VoxelBuffer buffer(size);
+void checkScanMatchesCpu(const epipolar::GridSize& size, uint32_t seed) {
+  epipolar::VoxelBuffer buffer(size);
   std::mt19937 rng(seed);
   std::vector<uint32_t> words(size_t(size.nAlpha) * size.nTheta * size.layers() * 4, 0u);
   // Sparse random bits, plus bits in the first and the last column of every row.
@@ -31,10 +31,10 @@ void checkScanMatchesCpu(const vsv::GridSize& size, uint32_t seed) {
       words[base + (size.nAlpha - 1) * 4 + rng() % 4] |= 0x80000000u;
     }
   buffer.write(words);
-  vsv::Scan scan;
+  epipolar::Scan scan;
   scan.run(buffer);
   std::vector<uint32_t> gpu = buffer.read();
-  vsv::prefixOrRowsCpu(words, size);
+  epipolar::prefixOrRowsCpu(words, size);
   ASSERT_EQ(gpu.size(), words.size());
   size_t mismatches = 0;
   for (size_t i = 0; i < gpu.size(); ++i) mismatches += gpu[i] != words[i];
@@ -50,7 +50,7 @@ TEST_F(VsvTest, ScanMatchesCpuBitForBit) {
 
 // ---- the epipolar transform
 
-std::vector<glm::dvec3> randomPoints(const vsv::EpipolarBasis& b, int count, uint32_t seed) {
+std::vector<glm::dvec3> randomPoints(const epipolar::EpipolarBasis& b, int count, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-6.0, 6.0);
   std::vector<glm::dvec3> points;
@@ -68,12 +68,12 @@ struct ProbeResult {
   std::vector<glm::ivec4> cells;
 };
 
-ProbeResult probe(const vsv::EpipolarBasis& basis, const vsv::GridSize& size, const std::vector<glm::dvec3>& points) {
+ProbeResult probe(const epipolar::EpipolarBasis& basis, const epipolar::GridSize& size, const std::vector<glm::dvec3>& points) {
   // The light type is a compile-time constant in the method's programs (sceneDefines); so here.
   const int lightType = lightTypeCode(basis.directional ? LightType::Directional : LightType::Point);
   gl::Program program = gl::buildCompute("methods/vsv/shaders/probe.comp",
                                          "#define VSV_LAYERS 1\n#define VS_LIGHT_TYPE " + std::to_string(lightType) + "\n");
-  vsv::GridUniforms g = vsv::makeGridUniforms(basis, size, false);
+  epipolar::GridUniforms g = epipolar::makeGridUniforms(basis, size, false);
   gl::Buffer ubo = gl::createBuffer(sizeof(g), &g);
   uint32_t rangesInit[2] = {0, 0};
   gl::Buffer ranges = gl::createBuffer(sizeof(rangesInit), rangesInit);
@@ -105,14 +105,14 @@ double boundaryDistance(double value, double range, int n) {
   return std::fabs(x - std::round(x));
 }
 
-void checkTransform(const vsv::EpipolarBasis& basis, const char* what) {
-  const vsv::GridSize size{37, 29, 128};
+void checkTransform(const epipolar::EpipolarBasis& basis, const char* what) {
+  const epipolar::GridSize size{37, 29, 128};
   std::vector<glm::dvec3> points = randomPoints(basis, 2000, 11);
   ProbeResult r = probe(basis, size, points);
   const double pi = glm::pi<double>();
   int compared = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    vsv::EpiCoords c = vsv::toEpipolar(basis, points[i]);
+    epipolar::EpiCoords c = epipolar::toEpipolar(basis, points[i]);
     for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(r.coords[i][k])) << what << " point " << i;
     bool onAxis = std::fabs(c.alpha) < 1e-6 || std::fabs(c.alpha - pi) < 1e-6;
     // θ is arbitrary on the axis (defined as 0 there); compare it only off the axis.
@@ -130,21 +130,21 @@ void checkTransform(const vsv::EpipolarBasis& basis, const char* what) {
         boundaryDistance(c.alpha, pi, size.nAlpha) < margin || boundaryDistance(c.phi, basis.phiRange, size.nPhi) < margin)
       continue;
     ++compared;
-    EXPECT_EQ(r.cells[i].x, vsv::thetaRow(c.theta, size.nTheta)) << what << " row of point " << i;
-    EXPECT_EQ(r.cells[i].y, vsv::alphaColumn(c.alpha, pi, size.nAlpha)) << what << " column of point " << i;
-    EXPECT_EQ(r.cells[i].z, vsv::phiBin(c.phi, basis.phiRange, size.nPhi)) << what << " bin of point " << i;
+    EXPECT_EQ(r.cells[i].x, epipolar::thetaRow(c.theta, size.nTheta)) << what << " row of point " << i;
+    EXPECT_EQ(r.cells[i].y, epipolar::alphaColumn(c.alpha, pi, size.nAlpha)) << what << " column of point " << i;
+    EXPECT_EQ(r.cells[i].z, epipolar::phiBin(c.phi, basis.phiRange, size.nPhi)) << what << " bin of point " << i;
   }
   EXPECT_GT(compared, 1500) << what;
 }
 
 TEST_F(VsvTest, EpipolarTransformMatchesCpu) {
-  checkTransform(vsv::makeBasis({0, 2, 8}, {0.5, 4, -1.5}, {0, 0, -1}, 1e-4), "general");
-  checkTransform(vsv::makeBasis({1, 1, 1}, {1, 1, 1}, {0, 0, -1}, 1e-3), "light at the eye");
-  checkTransform(vsv::makeBasis({0, 0, 0}, {1e-7, 0, 0}, {0, 0, -1}, 1e-3), "light near the eye");
-  checkTransform(vsv::makeBasis({0, 0, 0}, {0, 50, 0}, {0, 0, -1}, 1e-3), "light along +y");
+  checkTransform(epipolar::makeBasis({0, 2, 8}, {0.5, 4, -1.5}, {0, 0, -1}, 1e-4), "general");
+  checkTransform(epipolar::makeBasis({1, 1, 1}, {1, 1, 1}, {0, 0, -1}, 1e-3), "light at the eye");
+  checkTransform(epipolar::makeBasis({0, 0, 0}, {1e-7, 0, 0}, {0, 0, -1}, 1e-3), "light near the eye");
+  checkTransform(epipolar::makeBasis({0, 0, 0}, {0, 50, 0}, {0, 0, -1}, 1e-3), "light along +y");
   // Directional: φ is the distance from the axis (points reach ~10.4 from it; beyond 12 none).
-  checkTransform(vsv::makeDirectionalBasis({0, 2, 8}, {0.3, -1, -0.2}, 12.0), "directional");
-  checkTransform(vsv::makeDirectionalBasis({1, 1, 1}, {0, 0, 1}, 12.0), "directional along +z");
+  checkTransform(epipolar::makeDirectionalBasis({0, 2, 8}, {0.3, -1, -0.2}, 12.0), "directional");
+  checkTransform(epipolar::makeDirectionalBasis({1, 1, 1}, {0, 0, 1}, 12.0), "directional along +z");
 }
 
 // ---- images against raymarch
