@@ -46,7 +46,7 @@ TEST_P(StabilityTest, StaysFiniteBoundedAndDeterministic) {
   std::string unsupported = unsupportedReason(scene, *method, resolveSpec(spec, glLimits()).params);
   // A point-light method meets the area-light cases behind the per-VPL wrapper.
   if (!unsupported.empty() && deriveEffects(scene).areaLight) {
-    std::string wrapped = spec + ":vpls=16";
+    std::string wrapped = spec + ":vpls=" + std::to_string(kStressVpls);
     if (unsupportedReason(scene, *method, resolveSpec(wrapped, glLimits()).params).empty()) {
       spec = wrapped;
       unsupported.clear();
@@ -146,6 +146,26 @@ TEST_P(StressSliceTest, RandomConfigurationsStayFinite) {
   EXPECT_GT(s.tried, 0);
 }
 
+// On area-light configurations the stress runs point-light methods behind the per-VPL wrapper, as
+// the shootout does, instead of counting them unsupported; a method with area lights of its own
+// runs them natively.
+TEST_F(StressSliceTest, PointLightMethodsMeetAreaLightsThroughTheWrapper) {
+  StressOptions options;
+  options.seed = 3;
+  options.configs = 30;
+  options.width = 16;
+  options.height = 12;
+  int areaLights = 0;
+  for (int i = 0; i < options.configs; ++i) areaLights += isAreaLight(randomStressScene(options.seed, uint32_t(i)).light.type);
+  ASSERT_GT(areaLights, 0) << "no area light among the configurations: pick another seed";
+  std::vector<StressSummary> s = runStress(std::vector<std::string>{"vsv", "ivsv"}, options, glLimits());
+  EXPECT_GT(s[0].throughVpls, 0);
+  EXPECT_LE(s[0].throughVpls, areaLights);
+  EXPECT_EQ(s[0].failures, 0) << s[0].firstFailure;
+  EXPECT_EQ(s[1].throughVpls, 0);
+  EXPECT_EQ(s[1].failures, 0) << s[1].firstFailure;
+}
+
 class StressShardTest : public GlTest {};
 
 TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
@@ -170,6 +190,7 @@ TEST_F(StressShardTest, ShardsMergeToTheWholeRun) {
   for (size_t m = 0; m < methods.size(); ++m) {
     EXPECT_EQ(merged[m].tried, whole[m].tried) << methods[m];
     EXPECT_EQ(merged[m].unsupported, whole[m].unsupported) << methods[m];
+    EXPECT_EQ(merged[m].throughVpls, whole[m].throughVpls) << methods[m];
     EXPECT_EQ(merged[m].tried + merged[m].unsupported, 9) << methods[m];
     EXPECT_EQ(merged[m].failures, whole[m].failures) << methods[m];
     EXPECT_EQ(merged[m].worstIndex, whole[m].worstIndex) << methods[m];

@@ -115,6 +115,7 @@ void StressSummary::merge(const StressSummary& other) {
   tried += other.tried;
   seconds += other.seconds;
   unsupported += other.unsupported;
+  throughVpls += other.throughVpls;
   failures += other.failures;
   nonFinite += other.nonFinite;
   negative += other.negative;
@@ -140,15 +141,19 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
   auto secondsSince = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::vector<StressSummary> summaries(methods.size());
   std::vector<ResolvedSpec> specs;
+  std::vector<ResolvedSpec> wrappedSpecs;  // the same behind the per-VPL wrapper, for area lights
   for (size_t m = 0; m < methods.size(); ++m) {
     summaries[m].method = methods[m];
     std::string spec = methods[m] + ":sm=" + std::to_string(kStressShadowMap);
     ResolvedSpec resolved = resolveSpec(spec, limits);
     // A method's own maps ("res": dsm's deep shadow map, slicemap's slicemaps) at most that size too:
     // dsm's 512² map per face was two thirds of the methods' time.
-    if (resolved.params.has("res") && resolved.params.getInt("res") > kStressShadowMap)
-      resolved = resolveSpec(spec + ":res=" + std::to_string(kStressShadowMap), limits);
+    if (resolved.params.has("res") && resolved.params.getInt("res") > kStressShadowMap) {
+      spec += ":res=" + std::to_string(kStressShadowMap);
+      resolved = resolveSpec(spec, limits);
+    }
     specs.push_back(resolved);
+    wrappedSpecs.push_back(resolveSpec(spec + ":vpls=" + std::to_string(kStressVpls), limits));
   }
   // The reference: referenceMethodFor(the configuration's effects), at most kStressReferenceSteps
   // steps (kStressAreaReferenceSteps for area lights), its shadow maps (the area lights' too) at the methods' size.
@@ -188,13 +193,19 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
     for (size_t m = 0; m < methods.size(); ++m) {
       StressSummary& summary = summaries[m];
       auto method = createMethod(methods[m]);
-      if (!method->unsupportedReason(scene, specs[m].params).empty()) {
-        ++summary.unsupported;
-        continue;
+      const ResolvedSpec* spec = &specs[m];
+      if (!runner.unsupportedReason(*method, spec->params).empty()) {
+        // A point-light method meets an area light behind the per-VPL wrapper, as in the shootout.
+        if (!isAreaLight(scene.light.type) || !runner.unsupportedReason(*method, wrappedSpecs[m].params).empty()) {
+          ++summary.unsupported;
+          continue;
+        }
+        spec = &wrappedSpecs[m];
+        ++summary.throughVpls;
       }
       ++summary.tried;
       auto start = Clock::now();
-      MethodRun result = runner.run(*method, specs[m].params);
+      MethodRun result = runner.run(*method, spec->params);
       summary.seconds += secondsSince(start);
       if (result.status != RunStatus::Success) {
         ++summary.failures;

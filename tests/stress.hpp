@@ -18,6 +18,7 @@ std::string randomStressSceneJson(uint32_t seed, uint32_t index);
 struct StressSummary {
   std::string method;
   int tried = 0, unsupported = 0, failures = 0, nonFinite = 0, negative = 0;
+  int throughVpls = 0;         // of `tried`: area-light configurations run behind the per-VPL wrapper
   double worstRelmse = 0;      // L_s against the reference
   uint32_t worstIndex = 0;
   std::string firstFailure;    // reason of the first Failure row (lowest config index), if any
@@ -44,6 +45,10 @@ constexpr int kStressAreaReferenceSteps = 128;
 // Shadow-map size of every method in the stress, and of the reference (area lights: every light sample's);
 // the most texels per side of a method's own maps (its "res").
 constexpr int kStressShadowMap = 256;
+
+// Virtual point lights of the per-VPL wrapper when a point-light method meets an area light (the
+// stress, the hard cases and the stability report alike, as the shootout runs it).
+constexpr int kStressVpls = 16;
 
 struct StressOptions {
   uint32_t seed = 1;
