@@ -253,10 +253,17 @@ class EqualQuality {
     // The error of a baseline point: one still frame of the scene as the rows' compared frame shows it.
     errorRunner_ = std::make_unique<Runner>(plan.stillScene, limits, once);
     baseline_ = referenceMethodFor(plan.effects, registry).name;
+    baselineMethod_ = createMethod(registry, baseline_);
+    // The samplings it is matched with: the reference method's ladder series that it offers as
+    // brute-force baselines (raymarch: uniform, the papers', and equiangular, the strong one, for
+    // point and spot lights).
+    for (const auto& series : baselineMethod_->qualitySeries(plan.effects))
+      if (!baselineMethod_->baselineParams(series.name, 1).empty()) samplings_.push_back(series.name);
   }
   const std::string& baseline() const { return baseline_; }
+  const std::vector<std::string>& samplings() const { return samplings_; }
   std::string spec(const std::string& sampling, int sm, int steps) const {
-    return baseline_ + ":steps=" + std::to_string(steps) + ":sampling=" + sampling + ":sm=" + std::to_string(sm);
+    return baseline_ + ":" + baselineMethod_->baselineParams(sampling, steps) + ":sm=" + std::to_string(sm);
   }
 
   Point at(const std::string& sampling, int sm, int steps) {
@@ -334,6 +341,8 @@ class EqualQuality {
   Progress& progress_;
   std::unique_ptr<Runner> timeRunner_, errorRunner_;
   std::string baseline_;
+  std::unique_ptr<Method> baselineMethod_;
+  std::vector<std::string> samplings_;
   std::map<std::tuple<std::string, int, int>, Point> errors_;
   std::map<std::tuple<std::string, int, int>, double> times_;
 };
@@ -687,14 +696,6 @@ struct RowMatches {
   std::vector<Timed> baselines;
 };
 
-// The samplings the baseline is matched with: uniform (the papers'), and equiangular (the strong one)
-// for point and spot lights.
-std::vector<std::string> baselineSamplings(const Effects& effects) {
-  std::vector<std::string> samplings = {"uniform"};
-  if (effects.light == LightType::Point || effects.light == LightType::Spot) samplings.push_back("equiangular");
-  return samplings;
-}
-
 // The error a row is matched on (see RunPlan::equalQualityExact); negative when it has none.
 double matchedError(const Measured& m, const RunPlan& plan) {
   if (!m.measured || (plan.equalQualityExact && !m.exactMeasured)) return -1.0;
@@ -707,7 +708,7 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
   const MethodRun& r = m.run;
   double target = matchedError(m, plan);
   if (r.status != RunStatus::Success || target < 0.0 || r.method == eq.baseline() || eq.baseline().empty()) return out;
-  for (const std::string& sampling : baselineSamplings(plan.effects)) {
+  for (const std::string& sampling : eq.samplings()) {
     EqualQuality::Match match = eq.match(sampling, r.shadowMapSize, target);
     if (match.any) out.baselines.push_back({sampling, eq.spec(sampling, r.shadowMapSize, match.steps), match, {}});
   }

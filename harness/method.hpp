@@ -56,6 +56,12 @@ struct DebugView {
   float lo = 0.0f, hi = 0.0f;  // lo >= hi: the range of the values read (auto)
 };
 
+// A cap on the reference's cost (Method::referenceParams); 0: no cap.
+struct ReferenceBudget {
+  int maxSteps = 0;          // samples per camera ray
+  int maxShadowMapSize = 0;  // its own shadow maps (an area light's per-sample maps)
+};
+
 class Method {
  public:
   virtual ~Method() = default;
@@ -78,9 +84,19 @@ class Method {
     return {{"", qualityLadder()}};
   }
   // Parameters that make this method the ray-marched reference for a scene with these effects;
-  // empty when it cannot be one.
-  virtual std::string referenceParams(const Effects& effects) const {
+  // empty when it cannot be one. A budget caps its cost (the stress's small images); 0: no cap.
+  virtual std::string referenceParams(const Effects& effects, const ReferenceBudget& budget = {}) const {
     (void)effects;
+    (void)budget;
+    return "";
+  }
+  // The reference method as brute force: its parameters at `steps` samples per camera ray in its
+  // ladder series `series` (a name from qualitySeries(effects), e.g. "uniform", "equiangular").
+  // The equal-quality baselines are these; empty when the method has no such baseline. So no code
+  // outside the method writes its parameter names.
+  virtual std::string baselineParams(const std::string& series, int steps) const {
+    (void)series;
+    (void)steps;
     return "";
   }
   // Why this method cannot render `scene` with `params`; empty when it can. The default is

@@ -387,9 +387,10 @@ std::string defaultCacheDir() {
   return ".vshadow-cache";
 }
 
-ReferenceMethod referenceMethodFor(const Effects& effects, const MethodRegistry& registry) {
+ReferenceMethod referenceMethodFor(const Effects& effects, const MethodRegistry& registry,
+                                   const ReferenceBudget& budget) {
   for (const auto& info : registry) {
-    std::string params = info.create()->referenceParams(effects);
+    std::string params = info.create()->referenceParams(effects, budget);
     if (!params.empty()) return {info.name, params};
   }
   throw std::runtime_error("no registered method can serve as the reference");

@@ -154,7 +154,8 @@ ResolvedSpec resolveSpec(const std::string& spec, const gl::Limits& limits, cons
 struct ReferenceMethod {
   std::string name, params;
 };
-ReferenceMethod referenceMethodFor(const Effects& effects, const MethodRegistry& registry);
+ReferenceMethod referenceMethodFor(const Effects& effects, const MethodRegistry& registry,
+                                   const ReferenceBudget& budget = {});
 // Its spec at a shadow-map size: "name:params:sm=N".
 std::string referenceSpecFor(const Effects& effects, int shadowMapSize, const MethodRegistry& registry);
 

@@ -276,6 +276,49 @@ TEST(ReferenceTest, TheFirstMethodDeclaringReferenceParametersServesEveryCaller)
   EXPECT_THROW(referenceMethodFor(effects, MethodRegistry{}), std::runtime_error);
 }
 
+// The reference method itself writes its capped parameters and its brute-force baselines (the
+// equal-quality columns); no caller builds its spec text.
+class ReferenceBaselineTest : public GlTest {};
+
+TEST_F(ReferenceBaselineTest, TheReferenceWritesItsBudgetAndItsBaselines) {
+  for (bool area : {false, true}) {
+    Effects effects;
+    effects.scattering = effects.extinction = true;
+    effects.areaLight = area;
+    effects.light = area ? LightType::Rect : LightType::Point;
+    ReferenceBudget budget;
+    budget.maxSteps = 100;
+    budget.maxShadowMapSize = 128;
+    ReferenceMethod capped = referenceMethodFor(effects, registeredMethods(), budget);
+    ResolvedSpec full = resolveSpec(referenceSpecFor(effects, 512, registeredMethods()), glLimits());
+    ResolvedSpec cut = resolveSpec(capped.name + ":" + capped.params + ":sm=512", glLimits());
+    auto method = createMethod(capped.name);
+    int stepsParams = 0;
+    for (const ParamSpec& p : method->params()) {
+      if (p.kind != ParamSpec::Kind::Int || !full.params.has(p.name)) continue;
+      // Every integer the budget reaches is at most the budget; the others stay as they were.
+      int before = full.params.getInt(p.name), after = cut.params.getInt(p.name);
+      EXPECT_LE(after, before) << p.name;
+      if (after < before) {
+        ++stepsParams;
+        EXPECT_TRUE(after == budget.maxSteps || after == budget.maxShadowMapSize) << p.name << "=" << after;
+      }
+    }
+    EXPECT_GE(stepsParams, area ? 2 : 1) << "the budget capped nothing";
+    // Its baselines: one per series it offers, each a spec that resolves and differs by steps.
+    int baselines = 0;
+    for (const auto& series : method->qualitySeries(effects)) {
+      std::string at8 = method->baselineParams(series.name, 8), at16 = method->baselineParams(series.name, 16);
+      if (at8.empty()) continue;
+      ++baselines;
+      EXPECT_NE(at8, at16);
+      EXPECT_NO_THROW(resolveSpec(capped.name + ":" + at8, glLimits())) << at8;
+    }
+    EXPECT_GE(baselines, area ? 1 : 2) << "point lights have the uniform and the equiangular baseline";
+    EXPECT_TRUE(method->baselineParams("no-such-series", 8).empty());
+  }
+}
+
 class MinTimeTest : public GlTest {};
 
 // --min-time: a slow run measures fewer frames, a fast one all of them, and the images read back

@@ -25,7 +25,7 @@ std::string hardCaseCell(const HardCase& hard, const std::string& methodName, co
   ResolvedSpec resolved = resolveSpec(spec, glLimits());
   if (!method->unsupportedReason(scene, resolved.params).empty()) {
     // A point-light method meets the area-light cases behind the per-VPL wrapper (as the tests do).
-    std::string wrapped = spec + ":vpls=" + std::to_string(kStressVpls);
+    std::string wrapped = spec + ":vpls=" + std::to_string(kHardCaseVpls);
     if (!isAreaLight(scene.light.type) ||
         !unsupportedReason(scene, *method, resolveSpec(wrapped, glLimits()).params).empty())
       return "unsupported";

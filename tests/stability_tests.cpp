@@ -46,7 +46,7 @@ TEST_P(StabilityTest, StaysFiniteBoundedAndDeterministic) {
   std::string unsupported = unsupportedReason(scene, *method, resolveSpec(spec, glLimits()).params);
   // A point-light method meets the area-light cases behind the per-VPL wrapper.
   if (!unsupported.empty() && deriveEffects(scene).areaLight) {
-    std::string wrapped = spec + ":vpls=" + std::to_string(kStressVpls);
+    std::string wrapped = spec + ":vpls=" + std::to_string(kHardCaseVpls);
     if (unsupportedReason(scene, *method, resolveSpec(wrapped, glLimits()).params).empty()) {
       spec = wrapped;
       unsupported.clear();

@@ -155,23 +155,20 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
     specs.push_back(resolved);
     wrappedSpecs.push_back(resolveSpec(spec + ":vpls=" + std::to_string(kStressVpls), limits));
   }
-  // The reference: referenceMethodFor(the configuration's effects), at most kStressReferenceSteps
-  // steps (kStressAreaReferenceSteps for area lights), its shadow maps (the area lights' too) at the methods' size.
+  // The reference: referenceMethodFor(the configuration's effects) within the stress's budget: at
+  // most kStressReferenceSteps steps (kStressAreaReferenceSteps for area lights), its own shadow
+  // maps (the area lights' too) at the methods' size.
   std::map<std::string, ResolvedSpec> referenceSpecs;  // by the reference's spec text
   auto referenceFor = [&](const Scene& scene) -> const ResolvedSpec& {
-    ReferenceMethod reference = referenceMethodFor(deriveEffects(scene), registeredMethods());
-    std::string key = reference.name + ":" + reference.params;
-    auto found = referenceSpecs.find(key);
+    Effects effects = deriveEffects(scene);
+    ReferenceBudget budget;
+    budget.maxSteps = effects.areaLight ? kStressAreaReferenceSteps : kStressReferenceSteps;
+    budget.maxShadowMapSize = kStressShadowMap;
+    ReferenceMethod reference = referenceMethodFor(effects, registeredMethods(), budget);
+    std::string text = reference.name + ":" + reference.params + ":sm=" + std::to_string(kStressShadowMap);
+    auto found = referenceSpecs.find(text);
     if (found != referenceSpecs.end()) return found->second;
-    MethodSpec spec = parseMethodSpec(key);
-    auto cap = [&](const std::string& param, int most) {
-      if (spec.params.count(param) && std::stoi(spec.params[param]) > most) spec.params[param] = std::to_string(most);
-    };
-    cap("steps", deriveEffects(scene).areaLight ? kStressAreaReferenceSteps : kStressReferenceSteps);
-    cap("light_sm", kStressShadowMap);
-    std::string text = reference.name + ":sm=" + std::to_string(kStressShadowMap);
-    for (const auto& [param, value] : spec.params) text += ":" + param + "=" + value;
-    return referenceSpecs.emplace(key, resolveSpec(text, limits)).first->second;
+    return referenceSpecs.emplace(text, resolveSpec(text, limits)).first->second;
   };
   RunOptions run;
   run.width = options.width;
