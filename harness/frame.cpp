@@ -50,8 +50,9 @@ glm::mat4 cubeFaceViewProj(const glm::vec3& position, int face, float nearZ, flo
 }
 
 bool isSharedPass(const std::string& pass) {
-  return pass == "Shadow Map" || pass == "Transmittance Map" || pass == "G Buffer" || pass == "Direct Lighting" ||
-         pass == "Composite" || pass == kGeometryUpdatePass;
+  for (const char* shared : kSharedPasses)
+    if (pass == shared) return true;
+  return false;
 }
 
 // ---- volumes
@@ -548,7 +549,7 @@ void SharedPasses::renderShadowMap(PassTimer& timer, const char* pass) {
   glDisable(GL_POLYGON_OFFSET_FILL);
   if (transmittance_) {
     // Semi-transparent occluders: their crossings per light texel (an empty map without casters).
-    auto scopeT = timer.scope("Transmittance Map");
+    auto scopeT = timer.scope(kTransmittanceMapPass);
     const Light& light = scene_.light;
     if (shadowCasters_) transmittance_->render(s, light.position, glm::vec3(uniforms_.lightDir), lightTypeCode(light.type));
     else transmittance_->clear(s);
@@ -556,7 +557,7 @@ void SharedPasses::renderShadowMap(PassTimer& timer, const char* pass) {
 }
 
 void SharedPasses::renderGBuffer(PassTimer& timer) {
-  auto scope = timer.scope("G Buffer");
+  auto scope = timer.scope(kGBufferPass);
   Frame f = frame();
   f.bindShared();
   glBindFramebuffer(GL_FRAMEBUFFER, gbufferFbo_.id());
@@ -587,7 +588,7 @@ void SharedPasses::drawFullscreen(GLuint fbo, GLuint program) const {
 }
 
 void SharedPasses::renderDirect(PassTimer& timer) {
-  auto scope = timer.scope("Direct Lighting");
+  auto scope = timer.scope(kDirectLightingPass);
   drawFullscreen(directFbo_.id(), directProgram_.id());
 }
 
@@ -605,7 +606,7 @@ void SharedPasses::clearInscatter() {
 }
 
 void SharedPasses::composite(PassTimer& timer) {
-  auto scope = timer.scope("Composite");
+  auto scope = timer.scope(kCompositePass);
   glBindTextureUnit(bind::kDirect, direct_.id());
   glBindTextureUnit(bind::kInscatter, inscatter_.id());
   if (effects_.volumeData) glBindTextureUnit(bind::kVolumeTransmittance, volumeTransmittance_.id());

@@ -181,6 +181,20 @@ struct Frame {
   void bindShared() const;
 };
 
+// The passes SharedPasses runs for every method; a method's own passes are the rest, and their sum
+// is its scattering time (MethodRun::scatterMs, as the papers count).
+inline constexpr const char* kShadowMapPass = "Shadow Map";
+inline constexpr const char* kTransmittanceMapPass = "Transmittance Map";
+inline constexpr const char* kGBufferPass = "G Buffer";
+inline constexpr const char* kDirectLightingPass = "Direct Lighting";
+inline constexpr const char* kCompositePass = "Composite";
+// A moving scene's geometry placed at the frame's time and uploaded again: scene work that every
+// method's frame pays alike, so shared.
+inline constexpr const char* kGeometryUpdatePass = "Geometry Update";
+inline constexpr const char* kSharedPasses[] = {kShadowMapPass,      kTransmittanceMapPass, kGBufferPass,
+                                                kDirectLightingPass, kCompositePass,        kGeometryUpdatePass};
+bool isSharedPass(const std::string& pass);
+
 class SharedPasses {
  public:
   SharedPasses(const Scene& scene, const SceneGpu& geometry, const Effects& effects, int width, int height);
@@ -190,7 +204,7 @@ class SharedPasses {
   // per-VPL wrapper); reallocates only when the kind of map changes.
   void lightMoved();
   void updateUniforms(uint32_t frameIndex, uint32_t seed);
-  void renderShadowMap(PassTimer& timer, const char* pass = "Shadow Map");
+  void renderShadowMap(PassTimer& timer, const char* pass = kShadowMapPass);
   void setShadowCasters(bool on) { shadowCasters_ = on; }
   void renderGBuffer(PassTimer& timer);     // "G Buffer"
   void renderDirect(PassTimer& timer);      // "Direct Lighting"
@@ -228,12 +242,6 @@ class SharedPasses {
   bool shadowCasters_ = true;
 };
 
-// The passes SharedPasses runs for every method ("Shadow Map", "Transmittance Map", "G Buffer",
-// "Direct Lighting", "Composite"); a method's own passes are the rest (scatter time, as the papers count).
-// A moving scene's geometry placed at the frame's time and uploaded again: scene work that every
-// method's frame pays alike, so shared.
-inline constexpr const char* kGeometryUpdatePass = "Geometry Update";
-bool isSharedPass(const std::string& pass);
 
 // Preprocessor defines that specialise shaders to the scene's light type, light texture and phase
 // function (see common.glsl); pass them to gl::buildProgram.

@@ -251,10 +251,10 @@ void Runner::renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameInde
                        options_.width, options_.height, 1);
     for (const Light& light : w.lights) {
       w.useLight(light, frameIndex, options_.seed);
-      if (sharedShadowMap_) shared.renderShadowMap(timer, "VPL Shadow Maps");
+      if (sharedShadowMap_) shared.renderShadowMap(timer, kVplShadowMapsPass);
       method.render(shared.frame(), timer);
       gl::resetPipelineState();
-      auto scope = timer.scope("VPL Accumulation");
+      auto scope = timer.scope(kVplAccumulationPass);
       // rgb: sum over VPLs; alpha: the camera ray's volume transmittance, the same for every VPL.
       glBindFramebuffer(GL_FRAMEBUFFER, w.sumFbo.id());
       glViewport(0, 0, options_.width, options_.height);
@@ -266,7 +266,7 @@ void Runner::renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameInde
       glDisable(GL_BLEND);
     }
     {
-      auto scope = timer.scope("VPL Accumulation");
+      auto scope = timer.scope(kVplAccumulationPass);
       glCopyImageSubData(w.sum.id(), GL_TEXTURE_2D, 0, 0, 0, 0, frame.inscatter, GL_TEXTURE_2D, 0, 0, 0, 0,
                          options_.width, options_.height, 1);
       glCopyImageSubData(w.direct.id(), GL_TEXTURE_2D, 0, 0, 0, 0, frame.direct, GL_TEXTURE_2D, 0, 0, 0, 0,

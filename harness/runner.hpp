@@ -138,6 +138,10 @@ class Runner {
 inline constexpr const char* kLightRefitPass = "Light Refit";
 // ...and when a method that derives state from the meshes' pose is set up again for their new pose.
 inline constexpr const char* kGeometryRefitPass = "Geometry Refit";
+// The per-VPL wrapper's passes: the shared shadow map from each virtual point light, and the sum
+// of the method's L_s over them (the method's scattering time: they stand in for its light).
+inline constexpr const char* kVplShadowMapsPass = "VPL Shadow Maps";
+inline constexpr const char* kVplAccumulationPass = "VPL Accumulation";
 
 // Runner::unsupportedReason without a Runner.
 std::string unsupportedReason(const Scene& scene, const Method& method, const ParamValues& params);

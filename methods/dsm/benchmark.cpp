@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
               " voxel samples/s (generation) | raymarch samples/s (its match) |\n|---|---|---|---|---|---|---|---|---|---|\n");
   for (auto& [name, runs] : defaults) {
     std::printf("| %s", name.c_str());
-    for (const char* pass : {"DSM Generation", "Volume March", "Surface Shadows", "Shadow Map", "G Buffer", "Direct Lighting"})
+    for (const char* pass : {"DSM Generation", "Volume March", "Surface Shadows", kShadowMapPass, kGBufferPass, kDirectLightingPass})
       std::printf(" | %s", spreadCell(spreadOf(runs, [pass](const MethodRun& run) { return run.passMs(pass); })).c_str());
     std::printf(" | %s | %.3g | %.3g |\n", spreadCell(spreadOf(runs, [](const MethodRun& run) { return run.frame.medianMs; })).c_str(),
                 spreadOf(runs, [](const MethodRun& run) { return stat(run, "dsm_voxel_samples_per_s"); }).median,

@@ -29,13 +29,6 @@ struct Measured {
   bool ok = false;
 };
 
-double ownPasses(const MethodRun& run) {
-  double sum = 0;
-  for (const auto& [pass, stats] : run.passStats)
-    if (!isSharedPass(pass)) sum += stats.medianMs;
-  return sum;
-}
-
 Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
                  const Image* reference) {
   Measured m;
@@ -45,7 +38,7 @@ Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& 
     return m;
   }
   m.ok = true;
-  m.scatterMs = ownPasses(m.run);
+  m.scatterMs = m.run.scatterMs();
   if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
   std::fflush(stdout);
   return m;
@@ -59,8 +52,8 @@ struct Columns {
 Columns columns(const MethodRun& r) {
   if (r.method == "ivsv")
     return {r.passMs("Imperfect Shadow Maps"), r.passMs("Voxelize"), r.passMs("Scan"), r.passMs("Final Gather")};
-  return {r.passMs("VPL Shadow Maps"), r.passMs("Epipolar Ranges") + r.passMs("Voxelize: From SM"), r.passMs("Scan VSV"),
-          r.passMs("Compute L_s") + r.passMs("VPL Accumulation")};
+  return {r.passMs(kVplShadowMapsPass), r.passMs("Epipolar Ranges") + r.passMs("Voxelize: From SM"), r.passMs("Scan VSV"),
+          r.passMs("Compute L_s") + r.passMs(kVplAccumulationPass)};
 }
 
 }  // namespace

@@ -183,7 +183,7 @@ int main(int argc, char** argv) {
   std::printf("\n## Pass breakdown at sm=1024 (ms, layout of Table 1), median [min–max] of %d interleaved rounds\n\n",
               kRounds);
   // Chen et al.'s Table 1 passes, named as there.
-  const std::vector<std::string> columns = {"Shadow Map",          "Shadow Map Rectification",
+  const std::vector<std::string> columns = {kShadowMapPass,          "Shadow Map Rectification",
                                             "Low-Rank Approximation", "Light Texture Precomputation",
                                             "Mipmap Construction", "Integration",
                                             "Near Epipole"};

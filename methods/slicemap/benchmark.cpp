@@ -138,11 +138,11 @@ int main(int argc, char** argv) {
           Measured m = measure(scene, spec, limits, side, side, frames, nullptr);
           if (!m.ok) continue;
           const MethodRun& r = m.run;
-          double ssm = r.passMs("Shadow Map") + r.passMs("G Buffer") + r.passMs("Direct Lighting") + r.passMs("Composite");
+          double ssm = r.passMs(kShadowMapPass) + r.passMs(kGBufferPass) + r.passMs(kDirectLightingPass) + r.passMs(kCompositePass);
           double tsm = ssm + r.passMs("Near/Far Maps") + r.passMs("Slicemap") + r.passMs("Shading");
           std::printf("| %s | %zu (%zu) | %s | %d | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f |\n", name,
                       triangles(scene, false) + triangles(scene, true), triangles(scene, true), slicing, targets,
-                      128 * targets, r.passMs("Shadow Map"), r.passMs("Near/Far Maps"), r.passMs("Slicemap"),
+                      128 * targets, r.passMs(kShadowMapPass), r.passMs("Near/Far Maps"), r.passMs("Slicemap"),
                       r.passMs("Shading"), ssm, tsm, 1000.0 / std::max(tsm, 1e-9), r.passMs("Scattering"));
           std::fflush(stdout);
         }
@@ -238,9 +238,7 @@ int main(int argc, char** argv) {
       for (const auto& info : registeredMethods()) {
         MethodRun r = benchmarkSpec(scene, info.name + ":sm=2048", limits, w / 2, h / 2, frames);
         if (r.status != RunStatus::Success) continue;
-        double ms = 0.0;
-        for (const auto& pass : r.passes)
-          if (!isSharedPass(pass)) ms += r.passMs(pass);
+        double ms = r.scatterMs();
         std::printf("| %s | %s | %.2e | %.1f |\n", name, info.name.c_str(), compareImages(r.inscatter, ref.run.inscatter).relmse, ms);
         std::fflush(stdout);
       }

@@ -94,8 +94,8 @@ int main(int argc, char** argv) {
     auto t1 = runInterleaved(s1, {"vsv:fused=0:sm=1024", "vsv:fused=1:sm=1024"}, limits, width, height, options.frames,
                              kRounds);
     const auto &paper = t1[0], &fused = t1[1];
-    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name, cell(paper, "Shadow Map").c_str(),
-                cell(paper, "G Buffer").c_str(), cell(paper, "Epipolar Ranges").c_str(),
+    std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name, cell(paper, kShadowMapPass).c_str(),
+                cell(paper, kGBufferPass).c_str(), cell(paper, "Epipolar Ranges").c_str(),
                 cell(paper, "Voxelize: From SM").c_str(), cell(paper, "Scan VSV").c_str(),
                 cell(paper, "Compute L_s").c_str(), scatterCell(paper).c_str(), cell(fused, "Voxelize: From SM").c_str(),
                 scatterCell(fused).c_str());
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
   auto runs = runInterleaved(scene, specs, limits, width, height, options.frames, kRounds);
   for (size_t i = 0; i < smSizes.size(); ++i) {
     const auto &r = runs[2 * i], &fused = runs[2 * i + 1];
-    std::printf("| %d^2 | %s | %s | %s | %s | %s | %s |\n", smSizes[i], cell(r, "Shadow Map").c_str(), cell(r, "G Buffer").c_str(),
+    std::printf("| %d^2 | %s | %s | %s | %s | %s | %s |\n", smSizes[i], cell(r, kShadowMapPass).c_str(), cell(r, kGBufferPass).c_str(),
                 cell(r, "Voxelize: From SM").c_str(), cell(r, "Scan VSV").c_str(), cell(r, "Compute L_s").c_str(),
                 cell(fused, "Voxelize: From SM").c_str());
   }
