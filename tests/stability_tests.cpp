@@ -16,7 +16,6 @@
 namespace vs::testing {
 namespace {
 
-constexpr int kWidth = 64, kHeight = 48;
 
 std::vector<std::string> methodNames() {
   std::vector<std::string> names;
@@ -55,8 +54,8 @@ TEST_P(StabilityTest, StaysFiniteBoundedAndDeterministic) {
   if (!unsupported.empty()) GTEST_SKIP() << unsupported;
 
   RunOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
+  options.width = hard.width;
+  options.height = hard.height;
   options.frames = 1;
   options.warmup = 0;
   MethodRun first = renderScene(scene, spec, options);
