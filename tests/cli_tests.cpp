@@ -371,6 +371,39 @@ TEST(CliTest, MergeProcessesGivesMediansRangesAndFlagsDisagreement) {
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
+// scripts/method-readmes: a method README's "Measured" section is written from results/ (its tables,
+// verdict lines and flags), and --check fails once results/ says something else.
+TEST(CliTest, MethodReadmesQuoteResultsAndGoStaleLoudly) {
+  std::string dir = makeTempDir("method-readmes");
+  std::filesystem::create_directories(dir + "/scripts");
+  std::filesystem::create_directories(dir + "/methods/demo");
+  std::filesystem::create_directories(dir + "/results/demo");
+  std::filesystem::copy_file(std::string(VS_SOURCE_DIR) + "/scripts/method-readmes", dir + "/scripts/method-readmes");
+  writeFile(dir + "/methods/demo/README.md", "# demo\n\n## Parameters\n\n`k`\n");
+  writeFile(dir + "/results/demo/README.md",
+            "# demo, measured\n\n## Table 1\n\n| a | 1.0 |\n\n⚑ 1 of 2 figures in this table: x\n\n"
+            "- Faster than the paper's baseline: holds (3.0x).\n- thresholds: relative\n");
+  const std::string script = "python3 " + dir + "/scripts/method-readmes";
+  ASSERT_NE(std::system((script + " --check 2> " + dir + "/err.txt").c_str()), 0) << "a missing section passed";
+  ASSERT_EQ(std::system((script + " 2> " + dir + "/err.txt").c_str()), 0) << readFile(dir + "/err.txt");
+  std::string readme = readFile(dir + "/methods/demo/README.md");
+  EXPECT_NE(readme.find("## Parameters\n\n`k`\n\n## Measured"), std::string::npos) << readme;
+  EXPECT_NE(readme.find("- [Table 1](../../results/demo/README.md#table-1)"), std::string::npos) << readme;
+  EXPECT_NE(readme.find("- Faster than the paper's baseline: holds (3.0x)."), std::string::npos) << readme;
+  EXPECT_EQ(readme.find("thresholds"), std::string::npos) << "a line that is not a verdict was quoted";
+  EXPECT_NE(readme.find("⚑ 1 of 2 figures"), std::string::npos) << readme;
+  EXPECT_EQ(std::system((script + " --check").c_str()), 0);
+  // New results: the section is stale until written again, and writing it again keeps one section.
+  writeFile(dir + "/results/demo/README.md", "# demo\n\n## Table 1\n\n- Faster: does not hold (0.9x).\n");
+  EXPECT_NE(std::system((script + " --check 2> " + dir + "/err.txt").c_str()), 0);
+  EXPECT_NE(readFile(dir + "/err.txt").find("methods/demo/README.md"), std::string::npos);
+  ASSERT_EQ(std::system((script + " 2> /dev/null").c_str()), 0);
+  readme = readFile(dir + "/methods/demo/README.md");
+  EXPECT_NE(readme.find("does not hold (0.9x)"), std::string::npos) << readme;
+  EXPECT_EQ(readme.find("holds (3.0x)"), std::string::npos) << readme;
+  EXPECT_EQ(readme.find("## Measured"), readme.rfind("## Measured")) << readme;
+}
+
 TEST(CliTest, KilledSweepKeepsEveryFinishedRow) {
   std::string dir = makeTempDir("killed");
   std::string out = dir + "/out";
