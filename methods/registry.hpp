@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/benchmark_kit.hpp"
-#include "harness/method.hpp"
-#include "harness/runner.hpp"
+#include "harness/bench/benchmark_kit.hpp"
+#include "harness/pipeline/method.hpp"
+#include "harness/pipeline/runner.hpp"
 
 namespace vs {
 
@@ -37,7 +37,7 @@ inline MethodRun runSpec(Runner& runner, const gl::Limits& limits, const std::st
   auto method = createMethod(r.method);
   return runner.run(*method, r.params);
 }
-// A timed run of a spec on a runner: inside a benchmark session (harness/benchmark_kit.hpp) it is
+// A timed run of a spec on a runner: inside a benchmark session (harness/bench/benchmark_kit.hpp) it is
 // bracketed by the session's calibration and repeated when the machine's speed moved meanwhile.
 inline MethodRun timedRunSpec(Runner& runner, const gl::Limits& limits, const std::string& spec) {
   BenchmarkSession* session = BenchmarkSession::current();

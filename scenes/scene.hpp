@@ -107,7 +107,7 @@ struct Light {
   glm::vec3 tangent{1, 0, 0};
   bool twoSided = false;
   // Point lights only: emission I * cos towards `direction` (|cos| when twoSided) instead of
-  // uniform I. A virtual point light of an area light (harness/vpl.hpp) is such a light.
+  // uniform I. A virtual point light of an area light (harness/pipeline/vpl.hpp) is such a light.
   bool cosineLobe = false;
   float area() const;
   // Point on the light for (u, v) in [0, 1)^2 (rect: uniform over the rectangle; disk: concentric map).

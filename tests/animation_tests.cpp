@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "gl_test.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 
 namespace vs::testing {
 namespace {

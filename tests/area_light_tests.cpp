@@ -5,9 +5,9 @@
 #include <cstdio>
 
 #include "gl_test.hpp"
-#include "harness/ground_truth.hpp"
-#include "harness/metrics.hpp"
-#include "harness/vpl.hpp"
+#include "harness/evaluation/ground_truth.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/vpl.hpp"
 
 namespace vs::testing {
 namespace {

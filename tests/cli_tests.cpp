@@ -14,7 +14,7 @@
 
 #include "bad_inputs.hpp"
 #include "gl_test.hpp"
-#include "harness/results.hpp"
+#include "harness/io/results.hpp"
 
 namespace vs::testing {
 namespace {

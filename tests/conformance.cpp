@@ -10,8 +10,8 @@
 
 #include "gl_test.hpp"
 #include "hard_cases.hpp"
-#include "harness/image.hpp"
-#include "harness/metrics.hpp"
+#include "harness/io/image.hpp"
+#include "harness/evaluation/metrics.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "gl_test.hpp"
-#include "harness/ground_truth.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/ground_truth.hpp"
+#include "harness/evaluation/metrics.hpp"
 #include "oracles.hpp"
 
 namespace vs::testing {

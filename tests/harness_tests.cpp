@@ -6,11 +6,11 @@
 #include <thread>
 
 #include "gl_test.hpp"
-#include "harness/effects.hpp"
-#include "harness/progress.hpp"
-#include "harness/results.hpp"
-#include "harness/thread_pinning.hpp"
-#include "harness/timer.hpp"
+#include "harness/pipeline/effects.hpp"
+#include "harness/cli/progress.hpp"
+#include "harness/io/results.hpp"
+#include "harness/gl/thread_pinning.hpp"
+#include "harness/gl/timer.hpp"
 
 #ifdef __linux__
 #include <sched.h>

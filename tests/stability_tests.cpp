@@ -10,8 +10,8 @@
 #include "hard_cases.hpp"
 #include "stability_report.hpp"
 #include "stress.hpp"
-#include "harness/metrics.hpp"
-#include "harness/results.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/io/results.hpp"
 
 namespace vs::testing {
 namespace {

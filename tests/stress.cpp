@@ -8,9 +8,9 @@
 #include <random>
 #include <stdexcept>
 
-#include "harness/effects.hpp"
-#include "harness/metrics.hpp"
-#include "harness/params.hpp"
+#include "harness/pipeline/effects.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/params.hpp"
 
 namespace vs::testing {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/runner.hpp"
+#include "harness/pipeline/runner.hpp"
 #include "registry.hpp"
 
 namespace vs::testing {

@@ -13,8 +13,8 @@
 #include <sstream>
 
 #include "gl_test.hpp"
-#include "harness/progress.hpp"
-#include "harness/results.hpp"
+#include "harness/cli/progress.hpp"
+#include "harness/io/results.hpp"
 #include "stability_report.hpp"
 #include "stress.hpp"
 

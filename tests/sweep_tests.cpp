@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "gl_test.hpp"
-#include "harness/results.hpp"
-#include "harness/sweep.hpp"
+#include "harness/io/results.hpp"
+#include "harness/cli/sweep.hpp"
 #include "registry.hpp"
 #include "scenes/scene.hpp"
 

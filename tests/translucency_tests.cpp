@@ -4,9 +4,9 @@
 #include <cstdio>
 
 #include "gl_test.hpp"
-#include "harness/ground_truth.hpp"
+#include "harness/evaluation/ground_truth.hpp"
 #include "fixtures.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 
 namespace vs::testing {
 namespace {

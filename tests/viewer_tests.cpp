@@ -5,10 +5,10 @@
 #include <nlohmann/json.hpp>
 
 #include "gl_test.hpp"
-#include "harness/image.hpp"
-#include "harness/metrics.hpp"
-#include "harness/params.hpp"
-#include "harness/viewer_input.hpp"
+#include "harness/io/image.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/params.hpp"
+#include "harness/viewer/viewer_input.hpp"
 
 namespace vs::testing {
 namespace {

@@ -6,9 +6,9 @@
 #include <filesystem>
 
 #include "gl_test.hpp"
-#include "harness/ground_truth.hpp"
-#include "harness/metrics.hpp"
-#include "harness/results.hpp"
+#include "harness/evaluation/ground_truth.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/io/results.hpp"
 #include "oracles.hpp"
 
 namespace vs::testing {

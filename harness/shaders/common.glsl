@@ -1,5 +1,5 @@
 // Shared by every shader: frame uniforms, the light, the medium, shadow-map visibility.
-// Mirrors vs::FrameUniforms and the bind:: units in harness/frame.hpp.
+// Mirrors vs::FrameUniforms and the bind:: units in harness/pipeline/frame.hpp.
 layout(std140, binding = 0) uniform FrameUniformBlock {
   mat4 viewProj;
   mat4 invViewProj;
@@ -42,7 +42,7 @@ const int LIGHT_DIRECTIONAL = 2;
 const int LIGHT_RECT = 3;  // area lights: the shared passes treat them as a cosine-lobed point light
 const int LIGHT_DISK = 4;  // at their centre (cube shadow map); methods sample the surface
 
-// Programs built with sceneDefines() (harness/frame.hpp) know the light type, light texture and
+// Programs built with sceneDefines() (harness/pipeline/frame.hpp) know the light type, light texture and
 // phase function at compile time, so the branches below fold away.
 #ifdef VS_LIGHT_TYPE
 int lightType() { return VS_LIGHT_TYPE; }

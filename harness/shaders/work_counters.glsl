@@ -1,4 +1,4 @@
-// Per-pixel work counters (harness/work_counters.hpp): built with VS_WORK_COUNTERS 1 the
+// Per-pixel work counters (harness/gl/work_counters.hpp): built with VS_WORK_COUNTERS 1 the
 // instrumented variant of a pass adds to layer `counter` of its pixel; otherwise countWork()
 // compiles to nothing. Layer 0 is the pixel's visited flag (add 1 once).
 #if defined(VS_WORK_COUNTERS) && VS_WORK_COUNTERS != 0

@@ -1,7 +1,7 @@
 // TEMPLATE: the smallest complete method, to copy into methods/NAME (README.md says how).
 // Shadowed single scattering by a short uniform march against the shared shadow map.
 #pragma once
-#include "harness/method.hpp"
+#include "harness/pipeline/method.hpp"
 
 namespace vs {
 

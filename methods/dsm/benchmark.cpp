@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/app.hpp"
-#include "harness/metrics.hpp"
-#include "harness/runner.hpp"
+#include "harness/cli/app.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/runner.hpp"
 #include "registry.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 #pragma once
 #include <array>
 
-#include "harness/method.hpp"
+#include "harness/pipeline/method.hpp"
 
 namespace vs {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "harness/gl.hpp"
+#include "harness/gl/gl.hpp"
 
 namespace vs {
 namespace epipolar {

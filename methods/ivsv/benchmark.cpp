@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "harness/app.hpp"
-#include "harness/ground_truth.hpp"
-#include "harness/image.hpp"
-#include "harness/metrics.hpp"
-#include "harness/runner.hpp"
-#include "harness/vpl.hpp"
+#include "harness/cli/app.hpp"
+#include "harness/evaluation/ground_truth.hpp"
+#include "harness/io/image.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/runner.hpp"
+#include "harness/pipeline/vpl.hpp"
 #include "registry.hpp"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "harness/vpl.hpp"
+#include "harness/pipeline/vpl.hpp"
 
 namespace vs {
 
@@ -172,7 +172,7 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   pullPush_ = gl::buildCompute("methods/ivsv/shaders/pullpush.comp");
   voxelize_ = gl::buildCompute("methods/ivsv/shaders/voxelize.comp", defines);
   gather_ = gl::buildFullscreen("methods/ivsv/shaders/gather.frag", defines);
-  // llvmpipe's loop budget (harness/gl.hpp): a gather pass takes as many VPLs as fit.
+  // llvmpipe's loop budget (harness/gl/gl.hpp): a gather pass takes as many VPLs as fit.
   lightsPerGatherPass_ = std::clamp((gl::kShaderLoopBudget - 64) / (steps_ + 2), 1, count_);
 }
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "epipolar/epipolar_grid.hpp"
-#include "harness/method.hpp"
+#include "harness/pipeline/method.hpp"
 
 namespace vs {
 

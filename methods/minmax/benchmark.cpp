@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "harness/app.hpp"
-#include "harness/image.hpp"
-#include "harness/metrics.hpp"
-#include "harness/runner.hpp"
+#include "harness/cli/app.hpp"
+#include "harness/io/image.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/runner.hpp"
 #include "registry.hpp"
 
 namespace {

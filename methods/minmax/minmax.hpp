@@ -1,8 +1,8 @@
 // Real-time volumetric shadows using 1D min-max mipmaps (Chen, Baran, Durand, Jarosz, I3D 2011).
 #pragma once
 #include "epipolar.hpp"
-#include "harness/method.hpp"
-#include "harness/work_counters.hpp"
+#include "harness/pipeline/method.hpp"
+#include "harness/gl/work_counters.hpp"
 
 namespace vs {
 

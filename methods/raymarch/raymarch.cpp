@@ -3,7 +3,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "harness/vpl.hpp"
+#include "harness/pipeline/vpl.hpp"
 
 namespace vs {
 

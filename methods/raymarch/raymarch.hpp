@@ -1,6 +1,6 @@
 // Brute-force ray marching of the single-scattering integral; also the harness's reference.
 #pragma once
-#include "harness/method.hpp"
+#include "harness/pipeline/method.hpp"
 
 namespace vs {
 

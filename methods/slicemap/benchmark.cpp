@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "harness/app.hpp"
-#include "harness/ground_truth.hpp"
-#include "harness/metrics.hpp"
-#include "harness/runner.hpp"
-#include "harness/step_search.hpp"
+#include "harness/cli/app.hpp"
+#include "harness/evaluation/ground_truth.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/runner.hpp"
+#include "harness/evaluation/step_search.hpp"
 #include "registry.hpp"
 
 namespace {
@@ -273,7 +273,7 @@ int main(int argc, char** argv) {
       Measured m = measure(scene, spec, limits, w, h, 0, &ref.run.inscatter);
       if (!m.ok) continue;
       auto baseline = [](int steps) { return "raymarch:steps=" + std::to_string(steps) + ":sampling=equiangular"; };
-      // The smallest step count reaching slicemap's error (harness/step_search.hpp), up to 4096.
+      // The smallest step count reaching slicemap's error (harness/evaluation/step_search.hpp), up to 4096.
       int steps = smallestPassingSteps(
           [&](int n) {
             auto it = errorAt.find(n);

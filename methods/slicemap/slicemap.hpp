@@ -5,7 +5,7 @@
 #pragma once
 #include <glm/glm.hpp>
 
-#include "harness/method.hpp"
+#include "harness/pipeline/method.hpp"
 
 namespace vs {
 

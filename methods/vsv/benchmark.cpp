@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/app.hpp"
-#include "harness/metrics.hpp"
-#include "harness/runner.hpp"
+#include "harness/cli/app.hpp"
+#include "harness/evaluation/metrics.hpp"
+#include "harness/pipeline/runner.hpp"
 #include "registry.hpp"
 #include "scenes/scene.hpp"
 
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   options.minTimeMs = kBenchmarkMinTimeMs;
   options.seed = session.seed();
 
-  // Matched on L_s relMSE (harness/metrics.hpp): RMSE on `spheres` is dominated by the one pixel
+  // Matched on L_s relMSE (harness/evaluation/metrics.hpp): RMSE on `spheres` is dominated by the one pixel
   // next to the on-screen point light, relMSE weighs every pixel by its own brightness.
   std::printf("\n## Equal quality against raymarch (L_s relMSE against raymarch:steps=2048)\n");
   std::printf("| scene | vsv L_s relMSE | vsv RMSE | vsv ms | raymarch steps at equal relMSE | raymarch relMSE | raymarch ms | speedup |\n"

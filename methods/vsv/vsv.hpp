@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "epipolar/epipolar_grid.hpp"
-#include "harness/method.hpp"
-#include "harness/work_counters.hpp"
+#include "harness/pipeline/method.hpp"
+#include "harness/gl/work_counters.hpp"
 
 namespace vs {
 

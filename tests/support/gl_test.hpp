@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/context.hpp"
-#include "harness/runner.hpp"
+#include "harness/gl/context.hpp"
+#include "harness/pipeline/runner.hpp"
 #include "registry.hpp"
 
 namespace vs::testing {

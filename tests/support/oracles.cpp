@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "harness/frame.hpp"
+#include "harness/pipeline/frame.hpp"
 
 namespace vs::testing {
 

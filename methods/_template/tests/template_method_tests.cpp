@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "gl_test.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 
 namespace vs::testing {
 namespace {

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "gl_test.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 #include "ivsv/ivsv.hpp"
 
 namespace vs::testing {

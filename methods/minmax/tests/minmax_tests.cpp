@@ -7,7 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl_test.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 #include "minmax/epipolar.hpp"
 #include "minmax/minmax.hpp"
 #include "minmax/traversal.hpp"

@@ -4,7 +4,7 @@
 
 #include "gl_test.hpp"
 #include "oracles.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 
 namespace vs::testing {
 namespace {

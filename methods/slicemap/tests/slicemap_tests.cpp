@@ -7,8 +7,8 @@
 #include <cstdio>
 
 #include "gl_test.hpp"
-#include "harness/ground_truth.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/ground_truth.hpp"
+#include "harness/evaluation/metrics.hpp"
 #include "oracles.hpp"
 #include "slicemap/slicemap.hpp"
 

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "gl_test.hpp"
-#include "harness/metrics.hpp"
+#include "harness/evaluation/metrics.hpp"
 #include "vsv/vsv.hpp"
 
 namespace vs::testing {
