@@ -141,6 +141,13 @@ void expectFolderAgrees(const std::string& name, const std::string& folder) {
     EXPECT_NE(readme.find("`" + p.name + "`"), std::string::npos)
         << folder << "/README.md does not name the parameter `" << p.name << "`";
   EXPECT_FALSE(method->description().empty());
+  // Its passes: at least one, each once, none with a shared or runner pass's name.
+  std::vector<std::string> passes = method->passes();
+  EXPECT_FALSE(passes.empty()) << name << " declares no pass";
+  std::set<std::string> unique(passes.begin(), passes.end());
+  EXPECT_EQ(unique.size(), passes.size()) << name << " declares a pass twice";
+  for (const std::string& pass : passes)
+    EXPECT_FALSE(isSharedPass(pass) || isRunnerPass(pass)) << name << " declares the harness's pass '" << pass << "'";
 }
 
 void expectLadderResolves(const std::string& name) {

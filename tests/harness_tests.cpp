@@ -394,7 +394,7 @@ TEST_F(EffectsTest, EveryLightTypeRendersFiniteImages) {
 // Methods that fail in the ways a sweep must survive.
 class FaultyMethod : public Method {
  public:
-  enum class Fault { ThrowInSetup, ThrowInRender, NaNPixels, GlError };
+  enum class Fault { ThrowInSetup, ThrowInRender, NaNPixels, GlError, UndeclaredPass };
   explicit FaultyMethod(Fault fault) : fault_(fault) {}
   std::string name() const override { return "faulty"; }
   std::string description() const override { return "test method"; }
@@ -404,6 +404,7 @@ class FaultyMethod : public Method {
     return c;
   }
   std::vector<ParamSpec> params() const override { return {}; }
+  std::vector<std::string> passes() const override { return {"Faulty Pass"}; }
   void setup(const SetupContext&, const ParamValues&) override {
     if (fault_ == Fault::ThrowInSetup) throw std::runtime_error("setup exploded");
   }
@@ -415,6 +416,9 @@ class FaultyMethod : public Method {
       glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, nan);
     }
     if (fault_ == Fault::GlError) glBindTextureUnit(0, 987654);  // not a texture name
+    if (fault_ == Fault::UndeclaredPass) {
+      auto stray = timer.scope("Stray Pass");
+    }
   }
 
  private:
@@ -439,7 +443,8 @@ TEST_F(FailureRowTest, FaultsBecomeFailureRowsWithReasons) {
   };
   for (Expect e : {Expect{FaultyMethod::Fault::ThrowInSetup, "setup exploded"},
                    Expect{FaultyMethod::Fault::ThrowInRender, "render exploded"},
-                   Expect{FaultyMethod::Fault::NaNPixels, "non-finite"}, Expect{FaultyMethod::Fault::GlError, "GL error"}}) {
+                   Expect{FaultyMethod::Fault::NaNPixels, "non-finite"}, Expect{FaultyMethod::Fault::GlError, "GL error"},
+                   Expect{FaultyMethod::Fault::UndeclaredPass, "pass 'Stray Pass' is not among the passes faulty declares"}}) {
     FaultyMethod method(e.fault);
     MethodRun run = runner.run(method, params);
     EXPECT_EQ(run.status, RunStatus::Failure) << e.reason;
@@ -469,6 +474,7 @@ class OwnShadowsMethod : public Method {
     return c;
   }
   std::vector<ParamSpec> params() const override { return {}; }
+  std::vector<std::string> passes() const override { return {"Own Pass"}; }
   bool needsSharedShadowMap() const override { return false; }
   std::vector<std::string> approximations() const override { return {"no visibility at all"}; }
   void setup(const SetupContext&, const ParamValues&) override {}

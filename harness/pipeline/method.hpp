@@ -70,6 +70,10 @@ class Method {
   virtual Capabilities capabilities() const = 0;
   // The method's own knobs. The harness adds the shared ones (sm = shadow-map resolution).
   virtual std::vector<ParamSpec> params() const = 0;
+  // Every pass render() may time (timer.scope), named as the paper's tables name them: the row's
+  // pass columns, whose sum is its scattering time (MethodRun::scatterMs). A run that times a
+  // pass not listed here fails, so tables and benchmarks can rely on the list.
+  virtual std::vector<std::string> passes() const = 0;
   // Parameter sets for `vshadow shootout`, cheapest first (each "key=value:key=value").
   virtual std::vector<std::string> qualityLadder() const { return {""}; }
   // The ladder for a scene with these effects, as one or more named series, each cheapest first

@@ -331,7 +331,12 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     // The recorded frames are the measured ones, in order.
     for (size_t k = 0; k < result.sequence.size() && k < timer.frames().size(); ++k)
       result.sequence[k].passMs = timer.frames()[k];
+    const std::vector<std::string> declared = method.passes();
     for (const auto& name : timer.passOrder()) {
+      if (name != PassTimer::kFrame && !isSharedPass(name) && !isRunnerPass(name) &&
+          std::find(declared.begin(), declared.end(), name) == declared.end())
+        throw std::runtime_error("pass '" + name + "' is not among the passes " + method.name() +
+                                 " declares (Method::passes)");
       TimingStats s = summarise(timer.samples().at(name));
       if (name == PassTimer::kFrame) {
         result.frame = s;

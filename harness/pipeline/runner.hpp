@@ -142,6 +142,11 @@ inline constexpr const char* kGeometryRefitPass = "Geometry Refit";
 // of the method's L_s over them (the method's scattering time: they stand in for its light).
 inline constexpr const char* kVplShadowMapsPass = "VPL Shadow Maps";
 inline constexpr const char* kVplAccumulationPass = "VPL Accumulation";
+// The runner's own passes around a method's: refits inside the frame and the per-VPL wrapper's.
+inline bool isRunnerPass(const std::string& pass) {
+  return pass == kLightRefitPass || pass == kGeometryRefitPass || pass == kVplShadowMapsPass ||
+         pass == kVplAccumulationPass;
+}
 
 // Runner::unsupportedReason without a Runner.
 std::string unsupportedReason(const Scene& scene, const Method& method, const ParamValues& params);

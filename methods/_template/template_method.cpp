@@ -27,6 +27,9 @@ std::vector<ParamSpec> TemplateMethod::params() const {
   return {ParamSpec::integer("steps", 32, 1, kMaxSteps, "uniform samples along each camera ray")};
 }
 
+// Every pass render() times: the row's pass columns (a pass timed but not listed fails the run).
+std::vector<std::string> TemplateMethod::passes() const { return {kMarchPass}; }
+
 std::vector<std::string> TemplateMethod::qualityLadder() const { return {"steps=8", "steps=32", "steps=128"}; }
 
 std::vector<std::string> TemplateMethod::approximations() const { return {"uniform steps without jitter"}; }

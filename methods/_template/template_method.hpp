@@ -11,6 +11,7 @@ class TemplateMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> passes() const override;
   std::vector<std::string> qualityLadder() const override;
   std::vector<std::string> approximations() const override;
   double declaredRelMseBound() const override { return 0.05; }

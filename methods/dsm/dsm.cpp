@@ -155,6 +155,8 @@ Capabilities DsmMethod::capabilities() const {
   return c;
 }
 
+std::vector<std::string> DsmMethod::passes() const { return {kGeneration, kMarch, kSurface}; }
+
 std::vector<ParamSpec> DsmMethod::params() const {
   return {ParamSpec::integer("res", 512, 16, 8192, "DSM resolution (texels per side, per face)"),
           ParamSpec::real("gen_step", 0.5, 0.01, 64.0, "DSM Generation: step length along light rays, in voxels of the finest volume"),

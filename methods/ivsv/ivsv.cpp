@@ -84,6 +84,8 @@ Capabilities IvsvMethod::capabilities() const {
   return c;
 }
 
+std::vector<std::string> IvsvMethod::passes() const { return {kVplSampling, kIsm, kVoxelize, kScan, kGather}; }
+
 std::vector<ParamSpec> IvsvMethod::params() const {
   return {ParamSpec::integer("lights", 64, 1, 1024, "virtual point lights on the area light (the paper: 256)"),
           ParamSpec::integer("grid", 128, 16, 512, "N_alpha = N_theta of each VPL's grid (N_phi is 128 bits; the paper: 128^3)"),

@@ -35,6 +35,7 @@ class IvsvMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> passes() const override;
   std::vector<std::string> qualityLadder() const override;
   std::vector<std::string> approximations() const override {
     return {"area light as virtual point lights", "visibility from imperfect shadow maps (point splats, pull-push)",

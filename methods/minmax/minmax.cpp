@@ -69,6 +69,10 @@ Capabilities MinmaxMethod::capabilities() const {
   return c;
 }
 
+std::vector<std::string> MinmaxMethod::passes() const {
+  return {kRectifyPass, kLowRankPass, kLightTexturePass, kMipmapPass, kIntegrationPass, kNearEpipolePass};
+}
+
 std::vector<ParamSpec> MinmaxMethod::params() const {
   return {
       ParamSpec::integer("slices", 0, 0, 8192, "epipolar slices; 0 = auto (every pixel within half a pixel of a slice)"),

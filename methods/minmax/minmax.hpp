@@ -12,6 +12,7 @@ class MinmaxMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> passes() const override;
   std::vector<std::string> approximations() const override {
     return {"visibility from the nearest texel of the rectified shadow map (no PCF)",
             "each pixel integrates its nearest epipolar slice"};

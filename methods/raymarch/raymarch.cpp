@@ -8,6 +8,7 @@
 namespace vs {
 
 static constexpr const char* kPass = "Ray Marching";
+static constexpr const char* kAreaShadowPass = "Area Light Shadow Maps";
 static constexpr int kMaxLightSamples = 256;
 static constexpr GLuint kVplShadowUnit = bind::kFirstMethodUnit + 1;
 static constexpr GLuint kVplUniforms = 3;
@@ -50,6 +51,8 @@ std::vector<ParamSpec> RaymarchMethod::params() const {
           ParamSpec::flag("light_shift", false,
                           "area lights: light samples shifted off the Hammersley points the VPL methods use (the reference)")};
 }
+
+std::vector<std::string> RaymarchMethod::passes() const { return {kAreaShadowPass, kPass}; }
 
 std::vector<std::string> RaymarchMethod::qualityLadder() const {
   return {"steps=8", "steps=16", "steps=32", "steps=64", "steps=128", "steps=256"};
@@ -154,7 +157,7 @@ int RaymarchMethod::stepsPerPass(const Frame& frame) const {
 }
 
 void RaymarchMethod::renderAreaLightShadows(const Frame& frame, PassTimer& timer) {
-  auto scope = timer.scope("Area Light Shadow Maps");
+  auto scope = timer.scope(kAreaShadowPass);
   glUseProgram(shadowProgram_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, vplFbo_.id());
   glViewport(0, 0, lightShadowSize_, lightShadowSize_);

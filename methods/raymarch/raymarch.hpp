@@ -10,6 +10,7 @@ class RaymarchMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> passes() const override;
   std::vector<std::string> qualityLadder() const override;
   std::vector<QualitySeries> qualitySeries(const Effects& effects) const override;
   std::string referenceParams(const Effects& effects, const ReferenceBudget& budget) const override;

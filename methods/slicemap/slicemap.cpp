@@ -117,6 +117,10 @@ Capabilities SlicemapMethod::capabilities() const {
   return c;
 }
 
+std::vector<std::string> SlicemapMethod::passes() const {
+  return {kNearFar, kSlicemap, kPrefix, kScattering, kShading};
+}
+
 std::vector<ParamSpec> SlicemapMethod::params() const {
   return {ParamSpec::integer("res", 512, 16, 8192, "slicemap resolution (texels per side, per cube face)").pow2(),
           ParamSpec::integer("targets", 1, 1, slicemap::kMaxTargets, "RGBA32UI render targets per slicemap: 128 slices each"),

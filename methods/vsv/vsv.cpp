@@ -37,6 +37,10 @@ Capabilities VsvMethod::capabilities() const {
   return c;
 }
 
+std::vector<std::string> VsvMethod::passes() const {
+  return {kRanges, kVoxelizeSm, kVoxelizeGeometry, kScan, kInscatter, kSurface};
+}
+
 std::vector<ParamSpec> VsvMethod::params() const {
   return {ParamSpec::integer("alpha", 256, 8, 8192, "N_alpha: columns (eye angle from the light axis)"),
           ParamSpec::integer("theta", 512, 8, 8192, "N_theta: rows (epipolar planes)"),

@@ -19,6 +19,7 @@ class VsvMethod : public Method {
   std::string description() const override;
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
+  std::vector<std::string> passes() const override;
   std::vector<std::string> approximations() const override {
     return {"visibility quantised to the epipolar voxel grid"};
   }
