@@ -60,6 +60,26 @@ std::string imageFormat(const std::vector<unsigned char>& bytes, const std::stri
   return "";
 }
 
+// Why PNG bytes are corrupt in their chunk structure ("" when every chunk fits up to IEND): a chunk
+// that declares more bytes than the file holds made the decoder ask for what it declared (a
+// fuzzed tEXt length: 2 GB for a 2x2 image), so it is refused before decoding.
+std::string pngChunkProblem(const std::vector<unsigned char>& bytes) {
+  size_t at = 8;  // after the signature
+  while (at + 8 <= bytes.size()) {
+    uint32_t length = uint32_t(bytes[at]) << 24 | uint32_t(bytes[at + 1]) << 16 | uint32_t(bytes[at + 2]) << 8 |
+                      uint32_t(bytes[at + 3]);
+    std::string type;
+    for (size_t k = at + 4; k < at + 8; ++k) type += std::isalpha(bytes[k]) ? char(bytes[k]) : '?';
+    size_t left = bytes.size() - at - 8;  // after the length and type
+    if (length > left || left - length < 4)
+      return "chunk " + type + " declares " + std::to_string(length) + " bytes where " +
+             std::to_string(left < 4 ? 0 : left - 4) + " remain";
+    if (type == "IEND") return "";
+    at += 12 + size_t(length);  // length, type, data, CRC
+  }
+  return "it ends before its IEND chunk";
+}
+
 bool allFinite(const std::vector<double>& values) {
   for (double v : values)
     if (!std::isfinite(v)) return false;
@@ -424,6 +444,10 @@ class GltfReader {
     if (file) imageFiles_.emplace_back(bytes.begin(), bytes.end());
     const std::string format = imageFormat(bytes, image.mimeType, image.uri);
     if (format.empty()) fail(where + ": not a PNG or JPEG image");
+    if (format == "png" && bytes.size() >= 8 && bytes[0] == 0x89) {
+      std::string problem = pngChunkProblem(bytes);
+      if (!problem.empty()) fail(where + ": corrupt PNG: " + problem);
+    }
     // One path for every form: decoded from memory through an IOProxy, which OpenImageIO 2.x takes
     // as the "oiio:ioproxy" open hint.
     OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
