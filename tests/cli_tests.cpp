@@ -235,6 +235,43 @@ TEST(CliTest, MovingSceneRecordsItsComparedFrameAndRefitsInTheFrame) {
   EXPECT_GT(fs::file_size(dir + "/sequence.png"), 1000u);
 }
 
+// A moving scene's video: every measured frame's images are written, and scripts/video makes an
+// H.264 MP4 with one frame per measured frame, its PNG frames kept beside it.
+TEST(CliTest, MovingSceneGivesAVideoOfItsFrames) {
+  std::string dir = makeTempDir("video");
+  CommandResult r = runVshadow({"shootout", "--scene", "sunsweep", "--size", "32x24", "--frames", "3", "--warmup", "1",
+                                "--rungs", "first", "--method", "minmax", "--method", "vsv", "--out", dir + "/out",
+                                "--cache", dir + "/cache"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const fs::path frames = fs::path(dir) / "out/images/sunsweep/frames";
+  for (const char* frame : {"0001", "0002", "0003"}) {
+    EXPECT_TRUE(fs::exists(frames / "reference" / (std::string(frame) + ".png"))) << frame;
+    int rows = 0;
+    for (const auto& entry : fs::directory_iterator(frames)) {
+      if (entry.path().filename() == "reference") continue;
+      ++rows;
+      EXPECT_TRUE(fs::exists(entry.path() / (std::string(frame) + ".png"))) << entry.path();
+      EXPECT_TRUE(fs::exists(entry.path() / (std::string(frame) + ".error.png"))) << entry.path();
+    }
+    EXPECT_EQ(rows, 2);
+  }
+  const std::string video = std::string(VS_SOURCE_DIR) + "/scripts/video ";
+  std::string cmd = video + dir + "/out -o " + dir + " > " + dir + "/video.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/video.log");
+  EXPECT_TRUE(fs::exists(dir + "/video-sunsweep/0002.png"));
+  cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=codec_name,nb_read_frames -of csv=p=0 " +
+        dir + "/video-sunsweep.mp4 > " + dir + "/probe.txt 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/probe.txt");
+  EXPECT_EQ(readFile(dir + "/probe.txt"), "h264,3\n");
+
+  // Without images (or without frames.csv) there is nothing to make a video of: one line, exit 1.
+  cmd = video + dir + "/nowhere 2> " + dir + "/err.txt";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  const std::string err = readFile(dir + "/err.txt");
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("frames.csv"), std::string::npos) << err;
+}
+
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   std::string dir = makeTempDir("shootout");
   std::string out = dir + "/out";

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <set>
 #include <thread>
 #include <tuple>
 
@@ -155,7 +156,8 @@ struct Baselines {
   Reference reference;  // valid when plan.haveReference
   GroundTruth exact;    // valid when plan.haveExact
   std::string referenceLabel;
-  float exposure = 1.0f;
+  float exposure = 1.0f;            // of the final image L
+  float inscatterExposure = 1.0f;   // of L_s alone (a moving scene's frame images)
   int referenceShadowMap = 64;  // the shadow-map size the reference was rendered with
 };
 
@@ -553,6 +555,28 @@ class ResultFiles {
       writePng8(stem + ".error.png", r.final.width, r.final.height,
                 falseColourError(r.final, base.reference.final, 0.1f / std::max(base.exposure, 1e-20f)));
   }
+  // A moving scene's measured frames, for scripts/video: frames/reference/NNNN.png and
+  // frames/METHOD_PARAMS/NNNN.png with NNNN.error.png, where NNNN is the frame of the sequence:
+  // L_s at one exposure for the whole sequence, and its error map against the reference of the
+  // frame's time (|ΔL_s| luminance, full scale 10 % of display white).
+  void writeSequenceImages(const MethodRun& r, const std::vector<const Image*>& references, float exposure) {
+    if (!images_ || r.status != RunStatus::Success) return;
+    const fs::path frames = imageDir_ / "frames";
+    const fs::path own = frames / (sanitize(r.method) + "_" + sanitize(r.params));
+    fs::create_directories(own);
+    fs::create_directories(frames / "reference");
+    const float fullScale = 0.1f / std::max(exposure, 1e-20f);
+    for (size_t k = 0; k < r.sequence.size() && k < references.size(); ++k) {
+      const MethodRun::SequenceFrame& f = r.sequence[k];
+      char name[32];
+      std::snprintf(name, sizeof name, "%04u", f.index);
+      if (referenceFramesWritten_.insert(f.index).second)
+        writePngTonemapped((frames / "reference" / (std::string(name) + ".png")).string(), *references[k], exposure);
+      writePngTonemapped((own / (std::string(name) + ".png")).string(), f.inscatter, exposure);
+      writePng8((own / (std::string(name) + ".error.png")).string(), f.inscatter.width, f.inscatter.height,
+                falseColourError(f.inscatter, *references[k], fullScale));
+    }
+  }
   // `rounds`: the job's timings per round (r holds their combination).
   void addRows(const ResultRow& run, const MethodRun& r, const std::string& sceneName, const std::string& timer,
                const std::string& renderer, const RoundTimings& rounds) {
@@ -607,6 +631,7 @@ class ResultFiles {
   bool images_, wroteFrames_ = false;
   std::string runsPath_, passesPath_, framesPath_, metaPath_;
   fs::path imageDir_;
+  std::set<uint32_t> referenceFramesWritten_;  // frames/reference/ images written by this process
 };
 
 // How the exact-visibility ground truth of a run is rendered (every frame's alike).
@@ -663,6 +688,7 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
   ++item;
   base.referenceLabel = ref.method + ":" + ref.params;
   base.exposure = autoExposure(ref.final);
+  base.inscatterExposure = autoExposure(ref.inscatter);
   return base;
 }
 
@@ -963,6 +989,7 @@ class Measurement {
       m.relmseMax = std::max(m.relmseMax, e.relmse);
     }
     m.temporal = temporalError(frames, references);
+    files_.writeSequenceImages(r, references, rows_.base.inscatterExposure);
     files_.addFrames(r, errors, rows_.plan.scene.name, rows_.timer, rows_.renderer);
     r.sequence.clear();  // measured: the images are not kept
   }
