@@ -41,8 +41,8 @@ std::string headless(const std::string& scene, const std::string& spec, const st
   return "";
 }
 
-CommandResult view(const std::vector<std::string>& extra, const std::string& dir) {
-  std::vector<std::string> args = {"view", "--scene", "spheres", "--size", kSize, "--timer", "wall", "--cache",
+CommandResult view(const std::vector<std::string>& extra, const std::string& dir, const std::string& scene = "spheres") {
+  std::vector<std::string> args = {"view", "--scene", scene, "--size", kSize, "--timer", "wall", "--cache",
                                    dir + "/cache", "--out", dir};
   args.insert(args.end(), extra.begin(), extra.end());
   return runVshadow(args);
@@ -50,9 +50,9 @@ CommandResult view(const std::vector<std::string>& extra, const std::string& dir
 
 TEST(ViewerScript, ParsesEveryCommand) {
   auto c = parseScript("# comment\nframe 3\nkey 2 L f1 escape\nlook 10 -5\nlight 1.5 2\nmove 1 0 -1\n"
-                       "param steps 64\nscreenshot out.png\nscene s.json\nquit\n",
+                       "param steps 64\nscreenshot out.png\nscene s.json\nquit\nseek 12\nkey k right left home\n",
                        "t.txt");
-  ASSERT_EQ(c.size(), 9u);
+  ASSERT_EQ(c.size(), 11u);
   EXPECT_EQ(c[0].op, ScriptCommand::Op::Frames);
   EXPECT_EQ(c[0].count, 3);
   EXPECT_EQ(c[1].keys, (std::vector<int>{keyFromName("2"), keyFromName("L"), keyFromName("F1"), keyFromName("ESC")}));
@@ -60,6 +60,11 @@ TEST(ViewerScript, ParsesEveryCommand) {
   EXPECT_EQ(c[6].value, "out.png");
   EXPECT_EQ(c[8].op, ScriptCommand::Op::Quit);
   EXPECT_EQ(c[8].where, "t.txt:10");
+  EXPECT_EQ(c[9].op, ScriptCommand::Op::Seek);
+  EXPECT_EQ(c[9].count, 12);
+  EXPECT_EQ(c[10].keys.size(), 4u);
+  EXPECT_THROW(parseScript("seek -1\n", "t.txt"), UsageError);
+  EXPECT_THROW(parseScript("seek 1.5\n", "t.txt"), UsageError);
 }
 
 TEST(ViewerScript, BadLinesNameFileAndLine) {
@@ -159,6 +164,38 @@ TEST(Viewer, ErrorMapAgainstTheReference) {
   }
   EXPECT_GT(total, 0.0);
   EXPECT_EQ(reference.width, 96);
+}
+
+// A moving scene plays its sequence; K pauses, Right steps, seek jumps. Every screenshot is the
+// headless run's image of the same frame, and the reference follows the frame shown.
+TEST(Viewer, PlaysPausesStepsAndSeeksASequence) {
+  std::string dir = makeTempDir("view-play");
+  writeFile(dir + "/play.txt",
+            "frame 3\nkey K\nframe 2\nscreenshot " + dir + "/f2.png\n"  // frames 0, 1, 2 played; paused at 2
+            "key RIGHT\nframe 1\nscreenshot " + dir + "/f3.png\n"      // a step forward
+            "seek 1\nframe 1\nscreenshot " + dir + "/f1.png\n"         // a jump back
+            "key R\nframe 1\nscreenshot " + dir + "/r1.png\n"          // the reference of frame 1
+            "seek 3\nframe 1\nscreenshot " + dir + "/r3.png\n");       // and of frame 3
+  CommandResult r = view({"--method", "minmax", "--script", dir + "/play.txt"}, dir, "sunsweep");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (int frame : {1, 2, 3}) {
+    const std::string f = std::to_string(frame);
+    std::string stem = headless("sunsweep", "minmax", dir + "/run" + f, frame + 1);
+    EXPECT_LT(relMse(dir + "/f" + f + ".exr", stem + ".final.exr"), kSameImageRelMse) << "frame " << f;
+  }
+  EXPECT_GT(relMse(dir + "/f1.exr", dir + "/f3.exr"), kDifferentImageRelMse);  // the sun moves
+  EXPECT_GT(relMse(dir + "/r1.exr", dir + "/r3.exr"), kDifferentImageRelMse);
+  EXPECT_NE(r.err.find("reference for frame 1 "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("reference for frame 3 "), std::string::npos) << r.err;
+
+  // A frame outside the sequence, or a seek on a still scene: one line naming the script's line, exit 2.
+  writeFile(dir + "/far.txt", "frame 1\nseek 25\n");
+  CommandResult far = view({"--method", "minmax", "--script", dir + "/far.txt"}, dir, "sunsweep");
+  EXPECT_EQ(far.exitCode, 2) << far.err;
+  EXPECT_NE(far.err.find("far.txt:2: seek 25: the sequence has frames 0 to 24"), std::string::npos) << far.err;
+  CommandResult still = view({"--method", "minmax", "--script", dir + "/far.txt"}, dir);
+  EXPECT_EQ(still.exitCode, 2) << still.err;
+  EXPECT_NE(still.err.find("does not move"), std::string::npos) << still.err;
 }
 
 }  // namespace

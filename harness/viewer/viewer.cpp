@@ -351,6 +351,12 @@ class Viewer {
       case GLFW_KEY_P: screenshot(nextName(".png")); break;
       case GLFW_KEY_J: saveScene(nextName(".json")); break;
       case GLFW_KEY_ESCAPE: quit_ = true; break;
+      case GLFW_KEY_K: playing_ = !playing_; break;
+      case GLFW_KEY_RIGHT: step(1); break;
+      case GLFW_KEY_LEFT: step(-1); break;
+      case GLFW_KEY_HOME:
+        if (moves()) seek(0);
+        break;
       default: break;
     }
     shownValid_ = false;
@@ -415,6 +421,23 @@ class Viewer {
     s.params = ParamValues::parse(s.name, s.specs, given);
     s.given = given;
     needsSetup_ = true;
+  }
+
+  // A moving scene's playback: the frame of the sequence shown, playing or paused. seek and step
+  // pause; UsageError for a frame outside the sequence or a scene that does not move.
+  void seek(int frame) {
+    if (!moves()) throw UsageError("seek: scene " + scene_.name + " does not move");
+    const int frames = scene_.animation.frameCount();
+    if (frame < 0 || frame >= frames)
+      throw UsageError("seek " + std::to_string(frame) + ": the sequence has frames 0 to " + std::to_string(frames - 1));
+    playing_ = false;
+    showFrame(uint32_t(frame));
+  }
+  void step(int delta) {
+    if (!moves()) return;
+    const int frames = scene_.animation.frameCount();
+    playing_ = false;
+    showFrame(uint32_t(((int(sequenceFrame_) + delta) % frames + frames) % frames));
   }
 
   void selectMethod(int index) {
@@ -486,6 +509,12 @@ class Viewer {
 
  private:
   Slot& slot() { return slots_[size_t(current_)]; }
+  bool moves() const { return scene_.animation.moves(); }
+  void showFrame(uint32_t frame) {
+    if (frame == sequenceFrame_) return;
+    sequenceFrame_ = frame;
+    viewChanged();  // the reference is that of the frame's time
+  }
 
   void viewChanged() {
     reference_.reset();
@@ -547,9 +576,15 @@ class Viewer {
     }
     if (needsSetup_) setUp();
     if (!method_) return;
+    // A moving scene plays its sequence, one frame of it per rendered frame, the frames numbered as
+    // `vshadow run` numbers them; paused, the same frame is rendered again.
+    if (moves() && playing_ && renderedFrames_ > 0)
+      showFrame((sequenceFrame_ + 1) % uint32_t(scene_.animation.frameCount()));
+    const uint32_t index = moves() ? sequenceFrame_ : frameIndex_++;
     gl::resetDebugErrorCount();
     try {
-      runner_->renderFrame(*method_, *timer_, frameIndex_++);
+      runner_->renderFrame(*method_, *timer_, index);
+      ++renderedFrames_;
       gl::checkErrors("frame");
       final_ = runner_->shared().readFinal();
       inscatter_ = runner_->shared().readInscatter();
@@ -586,9 +621,15 @@ class Viewer {
     }
     int sm = 64;
     for (const Slot& s : slots_) sm = std::max(sm, s.params.getInt("sm"));
-    std::fprintf(stderr, "vshadow view: computing the reference for this view...\n");
-    reference_ = obtainReference(scene_, limits_, options_, sm,
-                                 request_.cacheDir.empty() ? defaultCacheDir() : request_.cacheDir, registry_);
+    const std::string cacheDir = request_.cacheDir.empty() ? defaultCacheDir() : request_.cacheDir;
+    if (moves()) {
+      const double t = scene_.animation.timeOf(sequenceFrame_);
+      std::fprintf(stderr, "vshadow view: computing the reference for frame %u (t = %g s)...\n", sequenceFrame_, t);
+      reference_ = obtainReference(sceneAt(scene_, t), limits_, options_, sm, cacheDir, registry_);
+    } else {
+      std::fprintf(stderr, "vshadow view: computing the reference for this view...\n");
+      reference_ = obtainReference(scene_, limits_, options_, sm, cacheDir, registry_);
+    }
     referenceExposure_ = autoExposure(reference_->final);
     if (!exposureManual_) exposure_ = referenceExposure_, exposureSet_ = true;
     return *reference_;
@@ -631,8 +672,10 @@ class Viewer {
         for (size_t i = 0; i < shown_.linear.rgb.size(); ++i)
           shown_.linear.rgb[i] = std::fabs(final_.rgb[i] - ref.rgb[i]);
         ErrorMetrics m = compareImages(final_, ref);
-        errorText_ = "rmse " + num(m.rmse) + "  relmse " + num(m.relmse) + "  psnr " + num(m.psnr) + " dB  ssim " +
-                     num(m.ssim);
+        ErrorMetrics ls = compareImages(inscatter_, reference().inscatter);
+        errorText_ = (moves() ? "frame " + std::to_string(sequenceFrame_) + ": " : std::string()) + "L_s rmse " +
+                     num(ls.rmse) + "  relmse " + num(ls.relmse) + "; L rmse " + num(m.rmse) + "  psnr " + num(m.psnr) +
+                     " dB  ssim " + num(m.ssim);
         break;
       }
       case ViewMode::Buffers: {
@@ -777,6 +820,19 @@ class Viewer {
       }
       ImGui::TextWrapped("%s", shown_.label.c_str());
     }
+    if (moves()) {
+      const int frames = scene_.animation.frameCount();
+      ImGui::Text("frame %u of %d, t = %.3f s  %s", sequenceFrame_, frames, scene_.animation.timeOf(sequenceFrame_),
+                  playing_ ? "playing" : "paused");
+      if (ImGui::Button(playing_ ? "pause (K)" : "play (K)")) playing_ = !playing_;
+      ImGui::SameLine();
+      if (ImGui::Button("<")) step(-1);
+      ImGui::SameLine();
+      if (ImGui::Button(">")) step(1);
+      ImGui::SameLine();
+      int frame = int(sequenceFrame_);
+      if (ImGui::SliderInt("##frame", &frame, 0, frames - 1, "frame %d", ImGuiSliderFlags_AlwaysClamp)) seek(frame);
+    }
     if (ImGui::SliderFloat("exposure", &exposure_, 1e-4f, 1e4f, "%.4g", ImGuiSliderFlags_Logarithmic)) {
       exposureManual_ = exposureSet_ = true;
       shownValid_ = false;
@@ -805,6 +861,7 @@ class Viewer {
       ImGui::Text("target %.3f %.3f %.3f", c.target.x, c.target.y, c.target.z);
       ImGui::Text("light  %s %.3f %.3f %.3f", lightTypeName(l.type), l.position.x, l.position.y, l.position.z);
       ImGui::TextWrapped("WASD/Space/C fly (Shift fast), left drag look, right drag moves the light");
+      if (moves()) ImGui::TextWrapped("K play/pause, Left/Right step a frame, Home first frame");
     }
     try {
       if (ImGui::Button("screenshot (P)")) screenshot(nextName(".png"));
@@ -897,7 +954,10 @@ class Viewer {
   std::unique_ptr<PassTimer> timer_;
   int current_ = 0;
   bool needsSetup_ = true, lightMoved_ = false, quit_ = false, anyFailure_ = false, panel_ = true;
-  uint32_t frameIndex_ = 0;
+  uint32_t frameIndex_ = 0;         // a still scene's frames
+  uint32_t sequenceFrame_ = 0;      // a moving scene's frame shown
+  uint64_t renderedFrames_ = 0;
+  bool playing_ = true;
   double setupMs_ = 0;
   std::string failure_, unsupported_, statusText_, errorText_;
   Image final_, inscatter_;
@@ -1007,6 +1067,7 @@ int viewChecked(const ViewRequest& req, const MethodRegistry& registry) {
         case ScriptCommand::Op::Light: viewer.dragLight(c.x, c.y); break;
         case ScriptCommand::Op::Move: viewer.move(c.x, c.y, c.z); break;
         case ScriptCommand::Op::Param: viewer.setParam(c.key, c.value); break;
+        case ScriptCommand::Op::Seek: viewer.seek(c.count); break;
         case ScriptCommand::Op::Screenshot: viewer.screenshot(c.value); break;
         case ScriptCommand::Op::Scene: viewer.saveScene(c.value); break;
         case ScriptCommand::Op::Quit: return viewer.failed() ? 3 : 0;

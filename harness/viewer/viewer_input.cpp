@@ -23,7 +23,9 @@ int keyFromName(const std::string& name) {
   }
   static const std::map<std::string, int> named = {
       {"ESCAPE", GLFW_KEY_ESCAPE}, {"ESC", GLFW_KEY_ESCAPE}, {"SPACE", GLFW_KEY_SPACE}, {"TAB", GLFW_KEY_TAB},
-      {"COMMA", GLFW_KEY_COMMA},   {",", GLFW_KEY_COMMA},    {"PERIOD", GLFW_KEY_PERIOD}, {".", GLFW_KEY_PERIOD}};
+      {"COMMA", GLFW_KEY_COMMA},   {",", GLFW_KEY_COMMA},    {"PERIOD", GLFW_KEY_PERIOD}, {".", GLFW_KEY_PERIOD},
+      {"LEFT", GLFW_KEY_LEFT},     {"RIGHT", GLFW_KEY_RIGHT}, {"UP", GLFW_KEY_UP},          {"DOWN", GLFW_KEY_DOWN},
+      {"HOME", GLFW_KEY_HOME},     {"END", GLFW_KEY_END}};
   auto it = named.find(n);
   return it == named.end() ? -1 : it->second;
 }
@@ -91,12 +93,18 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
       expect(1, op == "scene" ? "scene FILE.json" : "screenshot FILE.png");
       c.op = op == "scene" ? ScriptCommand::Op::Scene : ScriptCommand::Op::Screenshot;
       c.value = w[1];
+    } else if (op == "seek") {
+      expect(1, "seek FRAME");
+      double n = number(w[1], c.where, "frame");
+      if (n < 0 || n > 1e9 || n != std::floor(n)) throw UsageError(c.where + ": seek takes a frame number 0, 1, 2, ...");
+      c.op = ScriptCommand::Op::Seek;
+      c.count = int(n);
     } else if (op == "quit") {
       expect(0, "quit");
       c.op = ScriptCommand::Op::Quit;
     } else {
       throw UsageError(c.where + ": unknown command '" + op +
-                       "' (frame, key, look, light, move, param, screenshot, scene, quit)");
+                       "' (frame, key, look, light, move, param, seek, screenshot, scene, quit)");
     }
     commands.push_back(std::move(c));
   }

@@ -1,11 +1,13 @@
 // Scripted input for vshadow view (--script FILE): one command per line, '#' starts a comment.
 //   frame N            render N frames (also "frames N")
 //   key NAME...        press keys, as on the keyboard: 1-9, A-Z, F1-F12, ESCAPE, SPACE, TAB,
-//                      COMMA, PERIOD (the viewer's key table, README "Viewer")
+//                      COMMA, PERIOD, LEFT, RIGHT, UP, DOWN, HOME, END (the viewer's key table,
+//                      README "Viewer")
 //   look DX DY         turn the camera as a mouse drag of DX, DY pixels would
 //   light DX DY        move the light as a right-button drag of DX, DY pixels would
 //   move F R U         fly the camera F forward, R right, U up (scene units)
 //   param KEY VALUE    set a parameter of the current method (validated as on the command line)
+//   seek FRAME         show frame FRAME of a moving scene's sequence, paused
 //   screenshot FILE    FILE.png (what the view shows) and FILE.exr (its linear image)
 //   scene FILE         the scene with the current camera and light, as scene JSON
 //   quit               stop here
@@ -16,9 +18,9 @@
 namespace vs {
 
 struct ScriptCommand {
-  enum class Op { Frames, Key, Look, Light, Move, Param, Screenshot, Scene, Quit };
+  enum class Op { Frames, Key, Look, Light, Move, Param, Seek, Screenshot, Scene, Quit };
   Op op = Op::Frames;
-  int count = 0;                   // Frames
+  int count = 0;                   // Frames; Seek: the frame
   std::vector<int> keys;           // Key: GLFW key codes
   double x = 0, y = 0, z = 0;      // Look, Light (x, y), Move (x, y, z)
   std::string key, value;          // Param; Screenshot and Scene: value = the file
