@@ -236,8 +236,9 @@ TEST(CliTest, MovingSceneRecordsItsComparedFrameAndRefitsInTheFrame) {
 }
 
 // A moving scene's video: every measured frame's images are written, and scripts/video makes an
-// H.264 MP4 with one frame per measured frame, its PNG frames kept beside it.
-TEST(CliTest, MovingSceneGivesAVideoOfItsFrames) {
+// H.264 MP4 with one frame per measured frame, its PNG frames kept beside it. scripts/animation-table
+// tabulates the same folder (results/animation).
+TEST(CliTest, MovingSceneGivesAVideoAndAnAnimationTable) {
   std::string dir = makeTempDir("video");
   CommandResult r = runVshadow({"shootout", "--scene", "sunsweep", "--size", "32x24", "--frames", "3", "--warmup", "1",
                                 "--rungs", "first", "--method", "minmax", "--method", "vsv", "--out", dir + "/out",
@@ -270,6 +271,28 @@ TEST(CliTest, MovingSceneGivesAVideoOfItsFrames) {
   const std::string err = readFile(dir + "/err.txt");
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   EXPECT_NE(err.find("frames.csv"), std::string::npos) << err;
+
+  // The animation table: a row per method with its errors over the sequence and frame percentiles,
+  // what motion costs each, and vsv beside the paper's animations.
+  cmd = std::string(VS_SOURCE_DIR) + "/scripts/animation-table " + dir + "/out > " + dir + "/table.md 2> " + dir +
+        "/table.err";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/table.err");
+  const std::string table = readFile(dir + "/table.md");
+  EXPECT_NE(table.find("## sunsweep: 2 s at 12 fps (25 frames): light direction"), std::string::npos) << table;
+  EXPECT_NE(table.find("Frames 1–3 of 25 measured"), std::string::npos) << table;
+  EXPECT_NE(table.find("| minmax"), std::string::npos) << table;
+  EXPECT_NE(table.find("- **vsv**:"), std::string::npos) << table;
+  EXPECT_NE(table.find("| sunsweep (ours) |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| Fairy Forest Animation (paper) |"), std::string::npos) << table;
+  EXPECT_NE(table.find("Motion adds no pass of its own to vsv"), std::string::npos) << table;
+  // A still scene's folder is not a sequence: one line, exit 1.
+  CommandResult still = runVshadow({"run", "--scene", "spheres", "--size", "16x12", "--frames", "1", "--warmup", "0",
+                                    "--method", "raymarch", "--no-reference", "--no-images", "--out", dir + "/still"});
+  ASSERT_EQ(still.exitCode, 0) << still.err;
+  cmd = std::string(VS_SOURCE_DIR) + "/scripts/animation-table " + dir + "/still 2> " + dir + "/still.err";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  const std::string stillErr = readFile(dir + "/still.err");
+  EXPECT_EQ(std::count(stillErr.begin(), stillErr.end(), '\n'), 1) << stillErr;
 }
 
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
