@@ -3,6 +3,8 @@
 layout(std140, binding = 3) uniform FroxelBlock {
   ivec4 grid;     // width, height, slices, tile (pixels)
   vec4 range;     // unused, exponential (1) or linear (0), samples per froxel, jitter offset
+  mat4 previousViewProj;  // temporal reprojection: the previous frame's camera
+  vec4 previousEye;       // xyz; w = weight of the reprojected history (0: none)
 } fx;
 
 // The grid reaches the far plane in the frustum's corners: the far distance over the cosine of the

@@ -2,15 +2,31 @@
 // Froxel Scattering: per froxel, the in-scattered radiance per unit length sigma_s V rho L_in at
 // `samples` stratified distances along the ray through the tile's centre within the slice
 // (averaged), and with volume data the volumes' extinction there; V from the shared shadow map
-// and transmittance map, times the volumes' transmittance towards the light.
+// and transmittance map, times the volumes' transmittance towards the light. With temporal
+// reprojection the froxel's centre is projected into the previous frame's grid, and the history
+// found there (trilinear) is blended in with weight previousEye.w; outside it, none.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #include "common.glsl"
 #include "froxel.glsl"
 layout(location = 0) uniform int lightSteps;  // per volume, towards the light
 layout(binding = 0, rgba32f) writeonly uniform image3D scatteringOut;
+layout(binding = 12) uniform sampler3D scatteringHistory;
 #if VS_VOLUMES > 0
 layout(binding = 1, rgba32f) writeonly uniform image3D extinctionOut;
+layout(binding = 13) uniform sampler3D extinctionHistory;
 #endif
+
+// Texture coordinates of world point x in the previous frame's grid; false outside it.
+bool previousGridCoord(vec3 x, out vec3 coord) {
+  vec4 clip = fx.previousViewProj * vec4(x, 1.0);
+  if (clip.w <= 1e-20) return false;
+  vec2 ndc = clip.xy / clip.w;
+  if (any(greaterThan(abs(ndc), vec2(1.0)))) return false;
+  vec2 pixel = (ndc * 0.5 + 0.5) * vec2(u.viewport.xy);
+  coord.xy = pixel / (float(fx.grid.w) * vec2(fx.grid.xy));
+  coord.z = froxelIndexOf(length(x - fx.previousEye.xyz)) / float(fx.grid.z);
+  return coord.z < 1.0;
+}
 
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
@@ -35,8 +51,17 @@ void main() {
 #endif
     inscatter += scattering * visibility * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x);
   }
-  imageStore(scatteringOut, c, vec4(inscatter / float(n), 0.0));
+  inscatter /= float(n);
+  volumeExt /= float(n);
+  vec3 coord;
+  if (fx.previousEye.w > 0.0 && previousGridCoord(eye + dir * (0.5 * (t0 + t1)), coord)) {
+    inscatter = mix(inscatter, textureLod(scatteringHistory, coord, 0.0).rgb, fx.previousEye.w);
 #if VS_VOLUMES > 0
-  imageStore(extinctionOut, c, vec4(volumeExt / float(n), 0.0));
+    volumeExt = mix(volumeExt, textureLod(extinctionHistory, coord, 0.0).rgb, fx.previousEye.w);
+#endif
+  }
+  imageStore(scatteringOut, c, vec4(inscatter, 0.0));
+#if VS_VOLUMES > 0
+  imageStore(extinctionOut, c, vec4(volumeExt, 0.0));
 #endif
 }
