@@ -281,7 +281,7 @@ TEST(CliTest, MovingSceneGivesAVideoAndAnAnimationTable) {
   EXPECT_NE(table.find("## sunsweep: 2 s at 12 fps (25 frames): light direction"), std::string::npos) << table;
   EXPECT_NE(table.find("Frames 1–3 of 25 measured"), std::string::npos) << table;
   EXPECT_NE(table.find("| minmax"), std::string::npos) << table;
-  EXPECT_NE(table.find("- **vsv**:"), std::string::npos) << table;
+  EXPECT_NE(table.find("| vsv | none |"), std::string::npos) << table;  // what motion costs it
   EXPECT_NE(table.find("| sunsweep (ours) |"), std::string::npos) << table;
   EXPECT_NE(table.find("| Fairy Forest Animation (paper) |"), std::string::npos) << table;
   EXPECT_NE(table.find("Motion adds no pass of its own to vsv"), std::string::npos) << table;
@@ -293,6 +293,33 @@ TEST(CliTest, MovingSceneGivesAVideoAndAnAnimationTable) {
   EXPECT_NE(std::system(cmd.c_str()), 0);
   const std::string stillErr = readFile(dir + "/still.err");
   EXPECT_EQ(std::count(stillErr.begin(), stillErr.end(), '\n'), 1) << stillErr;
+}
+
+// scripts/froxel-verdict (results/froxel): from a shootout of whole ladders, per scene the fastest
+// method at froxel's error and the most accurate in its time, against froxel's game setting.
+TEST(CliTest, FroxelVerdictComparesEveryMethodAtFroxelsErrorAndTime) {
+  std::string dir = makeTempDir("froxel-verdict");
+  CommandResult r = runVshadow({"shootout", "--scene", "spheres", "--size", "32x24", "--frames", "1", "--warmup", "1",
+                                "--rungs", "all", "--method", "froxel", "--method", "minmax", "--no-images", "--out",
+                                dir + "/out", "--cache", dir + "/cache"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::string cmd = std::string(VS_SOURCE_DIR) + "/scripts/froxel-verdict " + dir + "/out > " + dir + "/verdict.md 2> " +
+                    dir + "/verdict.err";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/verdict.err");
+  const std::string verdict = readFile(dir + "/verdict.md");
+  EXPECT_NE(verdict.find("| spheres |"), std::string::npos) << verdict;
+  EXPECT_NE(verdict.find("- **spheres**: "), std::string::npos) << verdict;
+  EXPECT_NE(verdict.find("froxel wins at equal error on "), std::string::npos) << verdict;
+  EXPECT_NE(verdict.find("minmax"), std::string::npos) << verdict;
+  // Without froxel rows there is no yardstick: one line, exit 1.
+  CommandResult other = runVshadow({"shootout", "--scene", "spheres", "--size", "16x12", "--frames", "1", "--warmup", "0",
+                                    "--rungs", "first", "--method", "minmax", "--no-images", "--out", dir + "/other",
+                                    "--cache", dir + "/cache"});
+  ASSERT_EQ(other.exitCode, 0) << other.err;
+  cmd = std::string(VS_SOURCE_DIR) + "/scripts/froxel-verdict " + dir + "/other 2> " + dir + "/other.err";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  const std::string err = readFile(dir + "/other.err");
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {

@@ -54,7 +54,9 @@ void main() {
   inscatter /= float(n);
   volumeExt /= float(n);
   vec3 coord;
-  if (fx.previousEye.w > 0.0 && previousGridCoord(eye + dir * (0.5 * (t0 + t1)), coord)) {
+  // The froxel's centre in boundary-index space (its texel centre), so that a still camera finds
+  // each froxel's own history and no other slice's.
+  if (fx.previousEye.w > 0.0 && previousGridCoord(eye + dir * froxelBoundary(float(c.z) + 0.5), coord)) {
     inscatter = mix(inscatter, textureLod(scatteringHistory, coord, 0.0).rgb, fx.previousEye.w);
 #if VS_VOLUMES > 0
     volumeExt = mix(volumeExt, textureLod(extinctionHistory, coord, 0.0).rgb, fx.previousEye.w);
