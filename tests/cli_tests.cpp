@@ -40,6 +40,11 @@ TEST(CliTest, ListShowsScenesMethodsAndParameters) {
   EXPECT_NE(r.out.find("moves: 2 s at 12 fps (25 frames): light direction"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("moves: 2 s at 12 fps (25 frames): geometry 'torus_tilted', geometry 'knot_left'"),
             std::string::npos) << r.out;
+  // Per method, the effects it models and those it runs under a declared approximation.
+  EXPECT_NE(r.out.find("effects approximated: area light (vpls=N virtual point lights, the per-VPL wrapper); "
+                       "semi-transparent occluders (alpha-tested into the shadow map at alpha_test)"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("effects not run: volume data"), std::string::npos) << r.out;
   // raymarch's two brute-force series on point and spot lights.
   EXPECT_NE(r.out.find("shootout ladder (equiangular, point and spot lights): steps=8:sampling=equiangular"),
             std::string::npos);

@@ -100,6 +100,61 @@ TEST_F(TranslucencyTest, TextureAlphaIsUsedPerTexelByTheReferenceAndTheGroundTru
   EXPECT_LT(ls.relmse, 2e-3);
 }
 
+// Binary-visibility methods run semi-transparent scenes with the occluders alpha-tested into the
+// shadow map: a declared approximation that blocks where the opacity reaches alpha_test.
+TEST_F(TranslucencyTest, AlphaTestedOccludersBlockAtTheThreshold) {
+  const int W = 16, H = 12;
+  Scene open = sceneFromJson(quadScene(R"(, "opacity": 0)"));
+  Scene half = sceneFromJson(quadScene(R"(, "opacity": 0.5)"));
+  MethodRun gpuOpen = renderScene(open, "raymarch:steps=256:sm=256", W, H);
+  ASSERT_EQ(gpuOpen.status, RunStatus::Success) << gpuOpen.reason;
+  double openMean = 0.0;
+  for (float v : gpuOpen.inscatter.rgb) openMean += v / double(gpuOpen.inscatter.rgb.size());
+  Scene opaque = sceneFromJson(quadScene(""));
+  for (const char* method : {"minmax", "vsv"}) {
+    MethodRun blocked = renderScene(half, std::string(method) + ":sm=256:alpha_test=0.5", W, H);
+    MethodRun passed = renderScene(half, std::string(method) + ":sm=256:alpha_test=0.6", W, H);
+    ASSERT_EQ(blocked.status, RunStatus::Success) << method << ": " << blocked.reason;
+    ASSERT_EQ(passed.status, RunStatus::Success) << method << ": " << passed.reason;
+    bool declared = false;
+    for (const std::string& a : blocked.approximations) declared = declared || a.find("alpha-tested") != std::string::npos;
+    EXPECT_TRUE(declared) << method << ": the row does not name the approximation";
+    // Blocked: the method's image of the quad made opaque (what it leaks there is its own).
+    MethodRun asOpaque = renderScene(opaque, std::string(method) + ":sm=256", W, H);
+    ASSERT_EQ(asOpaque.status, RunStatus::Success) << method << ": " << asOpaque.reason;
+    double largest = 0.0;
+    for (size_t i = 0; i < blocked.inscatter.rgb.size(); ++i)
+      largest = std::max(largest, double(std::fabs(blocked.inscatter.rgb[i] - asOpaque.inscatter.rgb[i])));
+    EXPECT_LT(largest, 1e-4 * openMean) << method << ": opacity 0.5 at alpha_test=0.5 blocks as an opaque quad";
+    ErrorMetrics e = compareImages(passed.inscatter, gpuOpen.inscatter);
+    EXPECT_LT(e.relmse, 1e-2) << method << ": opacity 0.5 at alpha_test=0.6 lets all the light through";
+  }
+  // A textured BLEND quad (alpha 0.2 and 1 in a checkerboard) alpha-tested at 0.5 is the same quad
+  // as a MASK at cutoff 0.5, which the reference renders exactly: the approximation is that cut.
+  std::string dir = makeTempDir("alpha-tested");
+  std::vector<float> checker(64 * 64);
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i) checker[size_t(j) * 64 + i] = ((i / 8 + j / 8) % 2) ? 1.0f : 0.2f;
+  auto quad = [&](const std::string& mode, double cutoff) {
+    std::string gltf = writeAlphaQuadGltf(dir, mode, mode, cutoff, 64, 64, checker, 40.0, 3.0);
+    std::string text = quadScene("");
+    const std::string plane = R"({"generator": "plane", "params": {"center": [0, 3, 0], "size": [200, 200]}})";
+    text.replace(text.find(plane), plane.size(), R"({"gltf": ")" + gltf + R"("})");
+    return sceneFromJson(text);
+  };
+  Scene blend = quad("BLEND", 0.0), mask = quad("MASK", 0.5);
+  MethodRun maskRef = renderScene(mask, "raymarch:steps=256:sm=2048", 32, 24);
+  MethodRun blendRef = renderScene(blend, "raymarch:steps=256:sm=2048", 32, 24);
+  MethodRun tested = renderScene(blend, "minmax:sm=2048:alpha_test=0.5", 32, 24);
+  ASSERT_EQ(tested.status, RunStatus::Success) << tested.reason;
+  double toMask = compareImages(tested.inscatter, maskRef.inscatter).relmse;
+  double toBlend = compareImages(tested.inscatter, blendRef.inscatter).relmse;
+  std::printf("alpha-tested checkerboard: minmax vs MASK reference relMSE %.2e, vs BLEND reference %.2e\n", toMask,
+              toBlend);
+  EXPECT_LT(toMask, 2e-2);
+  EXPECT_LT(toMask, 0.2 * toBlend);
+}
+
 TEST_F(TranslucencyTest, StackedLayersMultiply) {
   // 40 layers of opacity 0.05 stacked 0.01 apart: 0.95^40 of the light passes.
   const int W = 8, H = 6;

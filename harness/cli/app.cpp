@@ -112,6 +112,18 @@ int listCommand(const MethodRegistry& registry) {
     auto m = info.create();
     std::printf("  %s  %s\n", m->name().c_str(), m->description().c_str());
     std::printf("    supports: %s\n", m->capabilities().describe().c_str());
+    // Every effect: modelled, run under a declared approximation (named in the row), or not at all.
+    std::string native, approximated, none;
+    for (const auto& [effect, support] : m->capabilities().effectSupport()) {
+      const std::string prefix = "approximated: ";
+      if (support == "native") native += (native.empty() ? "" : ", ") + effect;
+      else if (support.rfind(prefix, 0) == 0)
+        approximated += (approximated.empty() ? "" : "; ") + effect + " (" + support.substr(prefix.size()) + ")";
+      else none += (none.empty() ? "" : ", ") + effect;
+    }
+    std::printf("    effects native: %s\n", native.empty() ? "-" : native.c_str());
+    std::printf("    effects approximated: %s\n", approximated.empty() ? "-" : approximated.c_str());
+    std::printf("    effects not run: %s\n", none.empty() ? "-" : none.c_str());
     for (const auto& p : allParams(*m, 16384))
       std::printf("    %-12s default %-8s %-24s %s%s\n", p.name.c_str(), p.defaultValue.c_str(), p.rangeText().c_str(),
                   p.description.c_str(), p.speedOnly ? " (speed only: the image is the same)" : "");

@@ -17,7 +17,7 @@ Effects deriveEffects(const Scene& scene) {
     e.scattering = e.scattering || present;
     e.extinction = e.extinction || present;
     // Per-channel coefficients: the light through the volume is tinted.
-    if (present && v.chromatic()) e.coloredShadows = true;
+    if (present && v.chromatic()) e.coloredShadows = e.coloredVolumes = true;
   }
   e.lightTexture = scene.light.hasTexture();
   e.anisotropic = scene.medium.phase == Phase::HenyeyGreenstein && scene.medium.g != 0.0f;
@@ -25,7 +25,7 @@ Effects deriveEffects(const Scene& scene) {
   e.cosineLobe = scene.light.type == LightType::Point && scene.light.cosineLobe;
   for (const Mesh& m : scene.meshes) {
     if (!m.isOpaque()) e.semiTransparent = true;
-    if (!m.isOpaque() && m.hasTransmittanceColor()) e.coloredShadows = true;
+    if (!m.isOpaque() && m.hasTransmittanceColor()) e.coloredShadows = e.coloredOccluders = true;
   }
   e.light = scene.light.type;
   e.volumeCount = int(scene.volumes.size());

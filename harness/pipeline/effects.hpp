@@ -18,6 +18,8 @@ struct Effects {
   bool volumeData = false;       // density grids: heterogeneous sigma_t, 3D textures
   bool semiTransparent = false;  // occluders with opacity < 1: light transmittance through layers
   bool coloredShadows = false;   // occluders with a transmittance colour, or volumes with per-channel sigma
+  bool coloredOccluders = false;  // ...from occluders with a transmittance colour
+  bool coloredVolumes = false;    // ...from volumes with per-channel sigma
   LightType light = LightType::Point;
   int volumeCount = 0;
   std::string describe() const;  // "scattering+extinction+point"

@@ -418,6 +418,7 @@ void SharedPasses::fitShadowProjection() {
 void SharedPasses::buildShadowMap(int size) {
   ShadowMap& s = shadow_;
   s = ShadowMap{};
+  transmittanceCleared_ = false;  // the transmittance map follows the shadow map's size and faces
   s.type = shadowMapType(scene_.light);
   s.size = size;
   fitShadowProjection();
@@ -461,6 +462,14 @@ void SharedPasses::buildShadowMap(int size) {
 
 void SharedPasses::setShadowMapSize(int size) {
   if (shadow_.size != size) buildShadowMap(size);
+}
+
+void SharedPasses::setAlphaTest(float threshold) {
+  alphaTest_ = effects_.semiTransparent ? threshold : -1.0f;
+  transmittanceCleared_ = false;
+  if (alphaTest_ >= 0.0f && !alphaShadowProgram_)
+    alphaShadowProgram_ = gl::buildProgram({{GL_VERTEX_SHADER, "harness/shaders/shadow.vert"},
+                                            {GL_FRAGMENT_SHADER, "harness/shaders/shadow_alpha.frag"}});
 }
 
 void SharedPasses::lightMoved() {
@@ -546,8 +555,22 @@ void SharedPasses::renderShadowMap(PassTimer& timer, const char* pass) {
     glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(m));
     if (shadowCasters_) geometry_.drawOpaque();
   }
+  if (alphaTest_ >= 0.0f && shadowCasters_) {
+    glUseProgram(alphaShadowProgram_.id());
+    glUniform1f(1, alphaTest_);
+    for (int f = 0; f < faces; ++f) {
+      glBindFramebuffer(GL_FRAMEBUFFER, s.fbos[f].id());
+      const glm::mat4& m = s.type == LightType::Point ? s.faceViewProj[f] : s.viewProj;
+      glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(m));
+      geometry_.drawTranslucent();
+    }
+  }
   glDisable(GL_POLYGON_OFFSET_FILL);
-  if (transmittance_) {
+  if (transmittance_ && alphaTest_ >= 0.0f) {
+    // Alpha-tested: the occluders are in the shadow map; the transmittance map says T = 1.
+    if (!transmittanceCleared_) transmittance_->clear(s);
+    transmittanceCleared_ = true;
+  } else if (transmittance_) {
     // Semi-transparent occluders: their crossings per light texel (an empty map without casters).
     auto scopeT = timer.scope(kTransmittanceMapPass);
     const Light& light = scene_.light;

@@ -206,6 +206,10 @@ class SharedPasses {
   void updateUniforms(uint32_t frameIndex, uint32_t seed);
   void renderShadowMap(PassTimer& timer, const char* pass = kShadowMapPass);
   void setShadowCasters(bool on) { shadowCasters_ = on; }
+  // >= 0: semi-transparent occluders are alpha-tested into the shadow map at this opacity and the
+  // transmittance map stays empty (T = 1), so every pass sees binary visibility; -1: as the scene
+  // has them (Capabilities::alphaTestedOccluders).
+  void setAlphaTest(float threshold);
   void renderGBuffer(PassTimer& timer);     // "G Buffer"
   void renderDirect(PassTimer& timer);      // "Direct Lighting"
   void clearInscatter();
@@ -237,6 +241,9 @@ class SharedPasses {
   gl::Sampler lightSampler_;
   gl::Texture gPosition_, gNormal_, gAlbedo_, depth_, direct_, inscatter_, volumeTransmittance_, final_;
   gl::Framebuffer gbufferFbo_, directFbo_, inscatterFbo_, finalFbo_;
+  gl::Program alphaShadowProgram_;  // semi-transparent occluders alpha-tested (setAlphaTest)
+  float alphaTest_ = -1.0f;
+  bool transmittanceCleared_ = false;
   gl::Program shadowProgram_, skyProgram_, gbufferProgram_, directProgram_, compositeProgram_;
   uint32_t frameIndex_ = 0, seed_ = 0;
   bool shadowCasters_ = true;

@@ -22,9 +22,20 @@ struct Capabilities {
   bool henyeyGreenstein = false;
   bool volumeData = false;
   bool semiTransparentOccluders = false;
+  // Binary visibility only, but semi-transparent scenes run with their occluders alpha-tested into
+  // the shared shadow map (opacity >= `alpha_test` blocks, below it lets light through): a declared
+  // approximation in every such row. Methods with structures of their own built from the meshes
+  // follow SetupContext::alphaTest.
+  bool alphaTestedOccluders = false;
   bool coloredShadows = false;
   bool surfaceShadows = false;
   std::string describe() const;
+  // Per effect a method may meet, how it meets it: "native", "approximated: how" or "no"; for
+  // `vshadow list` and the method READMEs.
+  struct EffectSupport {
+    std::string effect, support;
+  };
+  std::vector<EffectSupport> effectSupport() const;
 };
 
 // The one place a method's capabilities meet a scene's effects: empty when every effect is
@@ -38,6 +49,10 @@ struct SetupContext {
   int width, height;
   int shadowMapSize;
   const gl::Limits& limits;
+  // >= 0: the scene's semi-transparent occluders are alpha-tested at this opacity (the shared shadow
+  // map holds those at or above it and no transmittance map is built); a method that builds its own
+  // occluder structure from the meshes does the same. -1: occluders as the scene has them.
+  float alphaTest = -1.0f;
 };
 
 // One of a method's own GL buffers as the viewer shows it (vshadow view): the viewer reads the
@@ -178,6 +193,12 @@ using MethodRegistry = std::vector<MethodInfo>;
 constexpr int kMaxVirtualPointLights = 4096;
 std::vector<ParamSpec> sharedParams(int maxShadowMapSize);
 std::vector<ParamSpec> allParams(const Method& method, int maxShadowMapSize);
+// The opacity at which this method's run alpha-tests the scene's semi-transparent occluders, or -1
+// when it does not (no such occluders, or the method models them).
+float alphaTestThreshold(const Method& method, const Effects& effects, const ParamValues& params);
+// The row's approximation for an alpha-tested run; empty when alpha testing is exact (only MASK
+// cut-outs, whose texels are opaque or absent).
+std::string alphaTestApproximation(const Scene& scene, float threshold);
 std::unique_ptr<Method> createMethod(const MethodRegistry& registry, const std::string& name);  // UsageError if unknown
 std::string knownMethodNames(const MethodRegistry& registry);
 

@@ -132,11 +132,13 @@ double Runner::setUp(Method& method, const ParamValues& params) {
   const Scene& scene = vpl_ ? vpl_->scene : live();
   const Effects& effects = vpl_ ? vpl_->effects : effects_;
   shared().setShadowMapSize(shadowMapSize);
+  alphaTest_ = alphaTestThreshold(method, effects, params);
+  shared().setAlphaTest(alphaTest_);
   shared().updateUniforms(0, options_.seed);
   double setupMs = 0.0;
   // Passes a scene does not call for are not built: without scattering the method is not set up.
   if (effects.scattering) {
-    SetupContext context{scene, *geometry_, effects, options_.width, options_.height, shadowMapSize, limits_};
+    SetupContext context{scene, *geometry_, effects, options_.width, options_.height, shadowMapSize, limits_, alphaTest_};
     glFinish();
     auto start = std::chrono::steady_clock::now();
     method.setup(context, params);
@@ -201,7 +203,8 @@ void Runner::refit(Method& method, PassTimer& timer, const char* pass) {
   auto scope = timer.scope(pass);
   const Scene& scene = vpl_ ? vpl_->scene : live();
   const Effects& effects = vpl_ ? vpl_->effects : effects_;
-  SetupContext context{scene, *geometry_, effects, options_.width, options_.height, setupParams_.getInt("sm"), limits_};
+  SetupContext context{scene,   *geometry_, effects, options_.width, options_.height, setupParams_.getInt("sm"),
+                       limits_, alphaTest_};
   method.setup(context, setupParams_);
   lightAtSetup_ = live().light;
   geometryTimeAtSetup_ = geometryTime_;
@@ -291,6 +294,8 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     if (params.getInt("vpls") > 0)
       result.approximations.push_back("area light as " + std::to_string(params.getInt("vpls")) +
                                       " virtual point lights (per-VPL wrapper)");
+    std::string alphaTested = alphaTestApproximation(scene_, alphaTestThreshold(method, effects_, params));
+    if (!alphaTested.empty()) result.approximations.push_back(alphaTested);
   };
   approximations();
   std::string unsupported = unsupportedReason(method, params);

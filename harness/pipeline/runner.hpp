@@ -128,6 +128,7 @@ class Runner {
   std::unique_ptr<SceneGpu> geometry_;
   std::unique_ptr<SharedPasses> shared_;
   bool sharedShadowMap_ = true;  // of the method set up last
+  float alphaTest_ = -1.0f;      // of the method set up last (alphaTestThreshold)
   struct VplWrapper;
   std::unique_ptr<VplWrapper> vpl_;  // set when the method set up last runs per VPL
   void renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record, const FrameMotion& motion);

@@ -26,17 +26,27 @@ struct VplGpu {
 
 namespace ivsv {
 
-std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32_t seed) {
+std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32_t seed, float alphaTest) {
   struct Tri {
     glm::vec3 a, b, c;
+    const Mesh* mesh;
+    uint32_t i0, i1, i2;
+  };
+  // Opaque meshes always; alpha-tested runs add the semi-transparent ones that block at the
+  // threshold (textured ones texel by texel, below).
+  auto blocks = [&](const Mesh& m) {
+    if (m.isOpaque()) return true;
+    if (alphaTest < 0.0f || m.opacity <= 0.0f) return false;
+    return m.alphaTexture >= 0 || m.opacityAt(1.0f) >= alphaTest;
   };
   std::vector<Tri> tris;
   std::vector<double> cumulative;
   double total = 0.0;
   for (const Mesh& mesh : scene.meshes) {
-    if (!mesh.isOpaque()) continue;
+    if (!blocks(mesh)) continue;
     for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-      Tri t{mesh.positions[mesh.indices[i]], mesh.positions[mesh.indices[i + 1]], mesh.positions[mesh.indices[i + 2]]};
+      Tri t{mesh.positions[mesh.indices[i]], mesh.positions[mesh.indices[i + 1]], mesh.positions[mesh.indices[i + 2]],
+            &mesh, mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]};
       double area = 0.5 * glm::length(glm::cross(glm::dvec3(t.b - t.a), glm::dvec3(t.c - t.a)));
       if (!(area > 0.0) || !std::isfinite(area)) continue;
       total += area;
@@ -49,7 +59,9 @@ std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32
   points.reserve(count);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  for (size_t i = 0; i < count; ++i) {
+  // A point on a textured mesh whose texel does not block is drawn again (a bounded number of times:
+  // a texture that blocks nowhere leaves fewer points).
+  for (size_t i = 0, attempts = 0; i < count && attempts < 16 * count; ++attempts) {
     double pick = uniform(rng) * total;
     size_t index = size_t(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
     const Tri& t = tris[std::min(index, tris.size() - 1)];
@@ -58,8 +70,15 @@ std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32
       u = 1.0 - u;
       v = 1.0 - v;
     }
+    const Mesh& m = *t.mesh;
+    if (!m.isOpaque() && m.alphaTexture >= 0 && size_t(m.alphaTexture) < scene.alphaTextures.size() &&
+        std::max({t.i0, t.i1, t.i2}) < m.uvs.size()) {
+      glm::vec2 uv = m.uvs[t.i0] + float(u) * (m.uvs[t.i1] - m.uvs[t.i0]) + float(v) * (m.uvs[t.i2] - m.uvs[t.i0]);
+      if (m.opacityAt(scene.alphaTextures[size_t(m.alphaTexture)].sample(uv)) < alphaTest) continue;
+    }
     glm::vec3 p = t.a + float(u) * (t.b - t.a) + float(v) * (t.c - t.a);
     points.emplace_back(p, 1.0f);
+    ++i;
   }
   return points;
 }
@@ -81,6 +100,7 @@ Capabilities IvsvMethod::capabilities() const {
   c.areaLight = true;
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;
+  c.alphaTestedOccluders = true;  // ISM points only where the occluder blocks at alpha_test
   return c;
 }
 
@@ -146,7 +166,7 @@ void IvsvMethod::setup(const SetupContext& context, const ParamValues& params) {
   if (gridBytes > double(1u << 30)) throw std::runtime_error("ivsv: packed grids over 1 GiB");
 
   std::vector<glm::vec4> cloud =
-      ivsv::samplePointCloud(context.scene, size_t(pointsPerLight_) * size_t(count_), 0x1f5e3u);
+      ivsv::samplePointCloud(context.scene, size_t(pointsPerLight_) * size_t(count_), 0x1f5e3u, context.alphaTest);
   if (cloud.empty()) cloud.emplace_back(0.0f, 0.0f, 0.0f, 1.0f);  // no occluders: one point behind nothing
   points_ = gl::createBuffer(cloud.size() * sizeof(glm::vec4), cloud.data(), 0);
   pointsTotal_ = cloud.size() == size_t(pointsPerLight_) * size_t(count_) ? GLsizei(cloud.size()) : 0;

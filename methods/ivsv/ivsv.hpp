@@ -15,8 +15,9 @@ namespace vs {
 
 namespace ivsv {
 // Points spread over the opaque triangles by area (`count` of them, consecutive blocks of
-// `perLight` being independent samples: one block per VPL). xyz position, w unused.
-std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32_t seed);
+// `perLight` being independent samples: one block per VPL). xyz position, w unused. alphaTest >= 0
+// adds the semi-transparent occluders where their opacity is at least alphaTest (SetupContext).
+std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32_t seed, float alphaTest = -1.0f);
 // Paraboloid projection of the hemisphere around unit `normal` (tangent frame t, b): direction d
 // (unit, dot(d, normal) > 0) to [-1, 1]^2.
 glm::vec2 paraboloid(const glm::vec3& d, const glm::vec3& t, const glm::vec3& b, const glm::vec3& normal);

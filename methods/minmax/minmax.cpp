@@ -66,6 +66,7 @@ Capabilities MinmaxMethod::capabilities() const {
   c.texturedLight = true;
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;
+  c.alphaTestedOccluders = true;  // rectified from the shared shadow map
   return c;
 }
 

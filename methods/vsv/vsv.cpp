@@ -34,7 +34,16 @@ Capabilities VsvMethod::capabilities() const {
   c.homogeneousMedium = true;
   c.henyeyGreenstein = true;
   c.surfaceShadows = true;  // with surface=1
+  c.alphaTestedOccluders = true;  // vox=sm: voxelized from the shared shadow map
   return c;
+}
+
+std::string VsvMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
+  std::string base = Method::unsupportedReason(scene, params);
+  if (!base.empty()) return base;
+  if (params.getString("vox") == "geom" && deriveEffects(scene).semiTransparent)
+    return "vox=geom extrudes whole triangles, so semi-transparent occluders cannot be alpha-tested: use vox=sm";
+  return "";
 }
 
 std::vector<std::string> VsvMethod::passes() const {

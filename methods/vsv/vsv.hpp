@@ -24,6 +24,7 @@ class VsvMethod : public Method {
     return {"visibility quantised to the epipolar voxel grid"};
   }
   std::vector<std::string> qualityLadder() const override;
+  std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
   void setup(const SetupContext& context, const ParamValues& params) override;
   void render(const Frame& frame, PassTimer& timer) override;
   std::map<std::string, double> stats(const std::map<std::string, TimingStats>& passes) const override;

@@ -29,6 +29,48 @@ TEST(IvsvCpu, PointCloudLiesOnTheOpaqueTrianglesAndFollowsArea) {
   EXPECT_NEAR(double(upper) / points.size(), 4.0 / 20.0, 0.015);  // areas 4 and 16
 }
 
+// Alpha-tested runs (SetupContext::alphaTest) put ISM points on semi-transparent occluders only
+// where they block: a constant opacity against the threshold, a textured one texel by texel.
+TEST(IvsvCpu, PointCloudFollowsTheAlphaTest) {
+  Scene scene = sceneFromJson(R"({"geometry": [
+      {"generator": "plane", "params": {"center": [0, 0, 0], "size": [4, 4]}},
+      {"generator": "plane", "params": {"center": [0, 2, 0], "size": [2, 2]}, "opacity": 0.4}],
+    "camera": {"position": [0, 1, 6], "target": [0, 1, 0]},
+    "light": {"type": "rect", "position": [0, 5, 0], "direction": [0, -1, 0], "width": 1, "height": 1, "intensity": 1},
+    "medium": {"sigma_s": 0.1, "sigma_a": 0}})");
+  auto upperShare = [&](float alphaTest) {
+    std::vector<glm::vec4> points = ivsv::samplePointCloud(scene, 4000, 7, alphaTest);
+    size_t upper = 0;
+    for (const auto& p : points) upper += p.y > 1.0f;
+    return double(upper) / double(std::max<size_t>(points.size(), 1));
+  };
+  EXPECT_EQ(upperShare(-1.0f), 0.0);  // not alpha-tested: opaque meshes only
+  EXPECT_EQ(upperShare(0.5f), 0.0);   // opacity 0.4 lets the light through at 0.5
+  EXPECT_NEAR(upperShare(0.3f), 4.0 / 20.0, 0.03);  // ... and blocks it at 0.3
+  // The upper plane textured: alpha 0 where x < 0, 1 where x > 0 (u = (x + 1) / 2).
+  Mesh& card = scene.meshes[1];
+  card.opacity = 1.0f;
+  card.alphaTexture = 0;
+  card.uvs.clear();
+  for (const glm::vec3& p : card.positions) card.uvs.push_back({(p.x + 1.0f) * 0.5f, (p.z + 1.0f) * 0.5f});
+  AlphaTexture halves;
+  halves.width = 64;
+  halves.height = 1;
+  for (int i = 0; i < 64; ++i) halves.alpha.push_back(i < 32 ? 0.0f : 1.0f);
+  scene.alphaTextures = {halves};
+  std::vector<glm::vec4> points = ivsv::samplePointCloud(scene, 4000, 7, 0.5f);
+  ASSERT_EQ(points.size(), 4000u);
+  size_t right = 0, left = 0;
+  for (const auto& p : points) {
+    if (p.y < 1.0f) continue;
+    // Bilinear filtering blends the halves within half a texel of u = 0 (wrapping) and u = 0.5.
+    right += p.x > 0.0f;
+    left += p.x < -0.04f && p.x > -0.96f;
+  }
+  EXPECT_EQ(left, 0u);
+  EXPECT_GT(right, 360u);  // the right half: area 2 of 16 + 2, about 444 points
+}
+
 TEST(IvsvCpu, ParaboloidMapsTheHemisphereIntoTheUnitDisk) {
   glm::vec3 t(1, 0, 0), b(0, 0, 1), n(0, -1, 0);
   EXPECT_NEAR(glm::length(ivsv::paraboloid(n, t, b, n)), 0.0f, 1e-6f);
