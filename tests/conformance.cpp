@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <set>
 
+#include "fixtures.hpp"
 #include "gl_test.hpp"
 #include "hard_cases.hpp"
 #include "harness/io/image.hpp"
@@ -49,6 +50,17 @@ const std::vector<CoverageScene>& coverageScenes() {
     second["box_max"] = {2.2, 1.7, 0.5};
     coloured["volumes"].push_back(second);
     out.push_back({"volume_of_two_colours", sceneFromJson(coloured.dump())});
+    // Per-texel opacity: a leaf-card quad (BLEND) whose alpha runs from 0 to 1 across it, above the
+    // camera in fog, a point light above it.
+    std::vector<float> ramp(16 * 16);
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i) ramp[size_t(j) * 16 + i] = (float(i) + 0.5f) / 16.0f;
+    std::string quad = writeAlphaQuadGltf(dir, "ramp", "BLEND", 0.0, 16, 16, ramp, 6.0, 3.0);
+    out.push_back({"alpha_textured_quad", sceneFromJson(R"({"geometry": [{"gltf": ")" + quad + R"("},
+        {"generator": "plane", "params": {"center": [0, 0, 0], "size": [20, 20]}}],
+      "camera": {"position": [0, 1, 5], "target": [0, 2, 0], "fov_y_deg": 60, "near": 0.1, "far": 20},
+      "light": {"type": "point", "position": [0.3, 6, 0.2], "intensity": 60},
+      "medium": {"sigma_s": 0.1, "sigma_a": 0.02}})")});
     return out;
   }();
   return scenes;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace vs {
 
@@ -26,18 +27,34 @@ struct SlicemapUniforms {
   glm::vec4 classRange[slicemap::kMaxClasses];  // uniform slicing: near, far, slices / (far - near)
   glm::vec4 classTransmittance[slicemap::kMaxClasses];     // rgb
   glm::vec4 classLog2Transmittance[slicemap::kMaxClasses];  // rgb: log2 of one crossing (-100 for 0)
+  glm::vec4 classBin[slicemap::kMaxClasses];   // x alpha bin (-1: constant transmittance), y bins, z minimum
+  glm::vec4 classTint[slicemap::kMaxClasses];  // rgb: the alpha bin's transmittance colour
 };
 
 namespace slicemap {
 
-std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem) {
+int AlphaQuantization::binOf(float opacity) const {
+  if (!(opacity >= minimum) || bins < 1) return -1;
+  float span = std::max(1.0f - minimum, 1e-6f);
+  return std::clamp(int((opacity - minimum) / span * float(bins)), 0, bins - 1);
+}
+
+std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem,
+                                     const AlphaQuantization& alpha) {
   std::vector<ColorClass> classes;
   auto classOf = [&](glm::vec3 t) -> ColorClass& {
     for (auto& c : classes)
-      if (glm::all(glm::lessThan(glm::abs(c.transmittance - t), glm::vec3(1e-3f)))) return c;
-    classes.push_back({t, false, false, {}});
+      if (c.alphaBin < 0 && glm::all(glm::lessThan(glm::abs(c.transmittance - t), glm::vec3(1e-3f)))) return c;
+    classes.push_back({t, false, false, {}, -1, glm::vec3(0.0f)});
     return classes.back();
   };
+  // Alpha-textured BLEND meshes by tint: per bin the texels' opacity sum and count.
+  struct Bins {
+    glm::vec3 tint;
+    std::vector<double> sum, count;
+    std::vector<int> meshes;
+  };
+  std::vector<Bins> textured;
   problem.clear();
   for (size_t i = 0; i < scene.meshes.size(); ++i) {
     const Mesh& mesh = scene.meshes[i];
@@ -50,19 +67,41 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
       }
       continue;
     }
-    if (mesh.alphaTexture >= 0 && mesh.alphaCutoff < 0.0f) {
-      problem = "mesh '" + mesh.name + "' has per-texel opacity (alpha texture, BLEND): a slicemap counts "
-                "crossings of a few constant transmittances";
-      return {};
+    if (mesh.alphaTexture >= 0 && mesh.alphaCutoff < 0.0f && size_t(mesh.alphaTexture) < scene.alphaTextures.size()) {
+      auto it = std::find_if(textured.begin(), textured.end(), [&](const Bins& b) {
+        return glm::all(glm::lessThan(glm::abs(b.tint - mesh.transmittanceColor), glm::vec3(1e-3f)));
+      });
+      if (it == textured.end()) {
+        textured.push_back({mesh.transmittanceColor, std::vector<double>(size_t(alpha.bins), 0.0),
+                            std::vector<double>(size_t(alpha.bins), 0.0), {}});
+        it = textured.end() - 1;
+      }
+      for (float a : scene.alphaTextures[size_t(mesh.alphaTexture)].alpha) {
+        float o = mesh.opacityAt(a);
+        int bin = alpha.binOf(o);
+        if (bin < 0) continue;
+        it->sum[size_t(bin)] += o;
+        it->count[size_t(bin)] += 1.0;
+      }
+      it->meshes.push_back(int(i));
+      continue;
     }
     // A MASK texel that stays is opaque: its crossing passes the transmittance colour.
     ColorClass& c = classOf(mesh.alphaTexture >= 0 ? mesh.transmittanceColor : mesh.crossingTransmittance());
     c.translucentMeshes = true;
     c.meshes.push_back(int(i));
   }
+  for (const Bins& b : textured)
+    for (int bin = 0; bin < alpha.bins; ++bin) {
+      if (b.count[size_t(bin)] <= 0.0) continue;
+      float mean = float(b.sum[size_t(bin)] / b.count[size_t(bin)]);
+      ColorClass c{glm::vec3(1.0f) - mean * (glm::vec3(1.0f) - b.tint), false, true, b.meshes, bin, b.tint};
+      classes.push_back(std::move(c));
+    }
   if (classes.size() > size_t(kMaxClasses)) {
     problem = "the occluders have " + std::to_string(classes.size()) + " different transmittances; at most " +
-              std::to_string(kMaxClasses) + " colour classes";
+              std::to_string(kMaxClasses) + " colour classes" +
+              (textured.empty() ? "" : " (per-texel opacity takes up to alpha_classes of them: lower it)");
     return {};
   }
   return classes;
@@ -140,7 +179,11 @@ std::vector<ParamSpec> SlicemapMethod::params() const {
                              "Scattering: consecutive samples whose visibility comes from one column fetch (ours)"),
           ParamSpec::flag("equiangular", true, "Scattering: equiangular samples (point and spot lights)"),
           ParamSpec::flag("jitter", true, "stratified jitter of the camera-ray samples"),
-          ParamSpec::flag("surface", true, "Shading: surfaces shadowed by the slicemap (the paper's use)")};
+          ParamSpec::flag("surface", true, "Shading: surfaces shadowed by the slicemap (the paper's use)"),
+          ParamSpec::integer("alpha_classes", 2, 1, slicemap::kMaxClasses,
+                             "per-texel opacity (alpha-textured BLEND): opacity bins, each a class of its mean opacity (ours)"),
+          ParamSpec::real("alpha_min", 0.1, 0.0, 1.0,
+                          "per-texel opacity: fragments below this opacity set no bit (the bins span alpha_min..1)")};
 }
 
 std::vector<std::string> SlicemapMethod::qualityLadder() const {
@@ -149,16 +192,28 @@ std::vector<std::string> SlicemapMethod::qualityLadder() const {
 }
 
 std::vector<std::string> SlicemapMethod::approximations() const {
-  return {"occluder depth quantised to slices; one bit per slice and column (layers in one slice count once)"};
+  std::vector<std::string> list = {
+      "occluder depth quantised to slices; one bit per slice and column (layers in one slice count once)"};
+  if (perTexelOpacity_) {
+    char text[160];
+    std::snprintf(text, sizeof text, "per-texel opacity quantised to %d classes of their mean (none below %g)",
+                  alpha_.bins, double(alpha_.minimum));
+    list.push_back(text);
+  }
+  return list;
 }
 
 static bool opaqueInSlices(const ParamValues& params) { return params.getString("opaque") == "slices"; }
+
+static slicemap::AlphaQuantization alphaQuantization(const ParamValues& params) {
+  return {params.getInt("alpha_classes"), float(params.getFloat("alpha_min"))};
+}
 
 std::string SlicemapMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {
   std::string base = Method::unsupportedReason(scene, params);
   if (!base.empty()) return base;
   std::string problem;
-  auto classes = slicemap::colorClasses(scene, opaqueInSlices(params), problem);
+  auto classes = slicemap::colorClasses(scene, opaqueInSlices(params), problem, alphaQuantization(params));
   if (!problem.empty()) return problem;
   bool pack = params.getBool("pack");
   if (params.getInt("share") > 1 && params.getString("lookup") == "prefix")
@@ -195,8 +250,10 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   needsSharedShadowMap_ = !(opaqueInSlices_ && surface_);
   faces_ = scene.light.type == LightType::Point ? 6 : 1;
   std::string problem;
-  classes_ = slicemap::colorClasses(scene, opaqueInSlices_, problem);
+  alpha_ = alphaQuantization(params);
+  classes_ = slicemap::colorClasses(scene, opaqueInSlices_, problem, alpha_);
   if (!problem.empty()) throw std::runtime_error(problem);
+  perTexelOpacity_ = std::any_of(classes_.begin(), classes_.end(), [](const slicemap::ColorClass& c) { return c.alphaBin >= 0; });
   int classes = int(classes_.size());
   packed_ = params.getBool("pack") && classes > 1;
   if (resolution_ > context.limits.maxTextureSize)
@@ -228,6 +285,8 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
     glm::vec3 t = classes_[size_t(c)].transmittance;
     uniforms.classTransmittance[c] = glm::vec4(t, 0.0f);
     uniforms.classLog2Transmittance[c] = glm::vec4(glm::log2(glm::max(t, glm::vec3(1e-30f))), 0.0f);
+    uniforms.classBin[c] = glm::vec4(float(classes_[size_t(c)].alphaBin), float(alpha_.bins), alpha_.minimum, 0.0f);
+    uniforms.classTint[c] = glm::vec4(classes_[size_t(c)].tint, 0.0f);
   }
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms);
 

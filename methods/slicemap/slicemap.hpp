@@ -22,12 +22,26 @@ struct ColorClass {
   bool opaqueMeshes = false;  // the scene's opaque meshes belong to this class
   bool translucentMeshes = false;  // and semi-transparent ones
   std::vector<int> meshes;    // indices into Scene::meshes
+  // Per-texel opacity (alpha-textured BLEND meshes, ours): the fragments whose opacity falls in
+  // bin `alphaBin` of AlphaQuantization and whose transmittance colour is `tint`; `transmittance`
+  // is that of the bin's mean opacity over the texels. -1: a class of constant transmittance.
+  int alphaBin = -1;
+  glm::vec3 tint{0.0f};
+};
+
+// How per-texel opacity becomes classes: opacities from `minimum` to 1 in `bins` equal bins, each
+// a class of its texels' mean opacity; below `minimum` a fragment sets no bit.
+struct AlphaQuantization {
+  int bins = 2;
+  float minimum = 0.1f;
+  int binOf(float opacity) const;  // -1 below minimum
 };
 
 // The classes a scene's occluders fall into. opaqueInSlices: the opaque meshes join the class of
-// transmittance 0 instead of the shared shadow map. When the scene cannot be voxelized (per-texel
-// opacity, too many transmittances) `problem` says why and the list is empty.
-std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem);
+// transmittance 0 instead of the shared shadow map. When the scene cannot be voxelized (too many
+// transmittances) `problem` says why and the list is empty.
+std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, std::string& problem,
+                                     const AlphaQuantization& alpha = {});
 
 // Range of light distances (point/spot) or of depths along the light direction (directional)
 // that a class's vertices span: its uniform slicing's near and far.
@@ -84,6 +98,8 @@ class SlicemapMethod : public Method {
 
   const SceneGpu* geometry_ = nullptr;
   std::vector<slicemap::ColorClass> classes_;
+  slicemap::AlphaQuantization alpha_;
+  bool perTexelOpacity_ = false;  // some class holds alpha-textured BLEND fragments
   int resolution_ = 512, targets_ = 1, faces_ = 1, steps_ = 128, share_ = 1;
   bool local_ = false, prefix_ = false, packed_ = false, jitter_ = true, surface_ = true, opaqueInSlices_ = false;
   bool needsSharedShadowMap_ = true;

@@ -9,6 +9,8 @@ layout(std140, binding = 4) uniform SlicemapBlock {
   vec4 classRange[4];  // per class, uniform slicing: near, far, slices / (far - near)
   vec4 classTransmittance[4];     // rgb
   vec4 classLog2Transmittance[4];  // rgb: log2 of one crossing (-100 for 0)
+  vec4 classBin[4];   // x alpha bin (-1: constant transmittance), y bins, z minimum opacity
+  vec4 classTint[4];  // rgb: the alpha bin's transmittance colour
 } slicemap;
 // Point lights (SLICEMAP_CUBE): cube-map arrays looked up by direction from the light, layer
 // class * targets + target (near/far: class); otherwise 2D arrays of one view.

@@ -21,9 +21,20 @@ void main() {
   if (opaqueDraw == 0) {
     // Semi-transparent meshes all draw; each fragment keeps to the class of its transmittance.
     float o = surfaceOpacity(vAlpha, vUv);
-    vec3 crossing = vec3(1.0) - o * (vec3(1.0) - vColor);
-    vec3 t = slicemap.classTransmittance[voxelClass].rgb;
-    if (o <= 0.0 || any(greaterThanEqual(abs(crossing - t), vec3(1e-3)))) discard;
+    if (o <= 0.0) discard;
+    vec4 bin = slicemap.classBin[voxelClass];
+    bool perTexel = vAlpha.x >= 0.0 && vAlpha.y < 0.0;  // alpha-textured BLEND: opacity bins
+    if (perTexel) {
+      // The bin of this opacity (none below the minimum), and the class's tint.
+      float span = max(1.0 - bin.z, 1e-6);
+      int b = o < bin.z ? -1 : clamp(int((o - bin.z) / span * bin.y), 0, int(bin.y) - 1);
+      if (bin.x < 0.0 || b != int(bin.x) || any(greaterThanEqual(abs(vColor - slicemap.classTint[voxelClass].rgb), vec3(1e-3))))
+        discard;
+    } else {
+      vec3 crossing = vec3(1.0) - o * (vec3(1.0) - vColor);
+      vec3 t = slicemap.classTransmittance[voxelClass].rgb;
+      if (bin.x >= 0.0 || any(greaterThanEqual(abs(crossing - t), vec3(1e-3)))) discard;
+    }
   }
   float depth = slicemapDepth(vPosition);
 #ifdef NEAR_FAR_PASS
