@@ -620,6 +620,29 @@ TEST(Generators, SeededGeneratorsAreDeterministic) {
   EXPECT_GT(highest - lowest, 0.1f * terrain.height);
 }
 
+TEST(Generators, ForestPlacementStaysTheSameBitForBit) {
+  // Trees are placed against a grid of min_spacing cells instead of every tree placed before (which
+  // cost n^2): the forest must be exactly what comparing with every tree gave (FNV-1a over the
+  // positions' bits and the indices; 400 trees that crowd their 40 x 30 area, so spots are refused).
+  vs::ForestParams p;
+  p.count = 400;
+  p.size = glm::vec2(40.0f, 30.0f);
+  p.minSpacing = 1.3f;
+  p.seed = 7;
+  p.tree.depth = 2;
+  vs::Mesh m = vs::makeForest(p);
+  uint64_t hash = 1469598103934665603ull;
+  for (const glm::vec3& q : m.positions)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t bits;
+      std::memcpy(&bits, &q[k], sizeof bits);
+      hash = (hash ^ bits) * 1099511628211ull;
+    }
+  for (uint32_t i : m.indices) hash = (hash ^ i) * 1099511628211ull;
+  EXPECT_EQ(m.triangleCount(), 16000u);
+  EXPECT_EQ(hash, 0x8b716bcf51d59178ull);
+}
+
 TEST(Generators, FenceWiresAreThin) {
   vs::FenceParams fence;
   fence.frame = false;
