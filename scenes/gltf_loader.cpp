@@ -99,6 +99,20 @@ class GltfReader {
 
   [[noreturn]] void fail(const std::string& problem) const { throwSceneError(path_, "", problem); }
 
+  // Reports the meshes read as `stage`, by the share of the file's vertices (counted over every
+  // POSITION accessor; instanced meshes are read more than once, so the share is a guide).
+  void reportTo(const LoadProgress& progress, std::string stage) {
+    progress_ = progress;
+    stage_ = std::move(stage);
+    verticesToRead_ = 0;
+    for (const tinygltf::Mesh& mesh : model_.meshes)
+      for (const tinygltf::Primitive& primitive : mesh.primitives) {
+        auto position = primitive.attributes.find("POSITION");
+        if (position != primitive.attributes.end() && position->second >= 0 && size_t(position->second) < model_.accessors.size())
+          verticesToRead_ += model_.accessors[size_t(position->second)].count;
+      }
+  }
+
   GltfContent read(const glm::mat4& transform) {
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
@@ -582,6 +596,7 @@ class GltfReader {
       fail("mesh index " + std::to_string(meshIndex) + " out of range (" + std::to_string(model_.meshes.size()) + " meshes)");
     const tinygltf::Mesh& source = model_.meshes[size_t(meshIndex)];
     for (size_t p = 0; p < source.primitives.size(); ++p) {
+      if (progress_) progress_(stage_, double(verticesRead_) / double(std::max<size_t>(verticesToRead_, 1)));
       const tinygltf::Primitive& primitive = source.primitives[p];
       std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
       int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
@@ -595,6 +610,7 @@ class GltfReader {
       mesh.albedo = materialAlbedo(primitive.material, what);
       mesh.opacity = materialOpacity(primitive.material);
       mesh.positions = readVec3(positionAttribute->second, what + " POSITION");
+      verticesRead_ += mesh.positions.size();
       auto normalAttribute = primitive.attributes.find("NORMAL");
       if (normalAttribute != primitive.attributes.end()) {
         mesh.normals = readVec3(normalAttribute->second, what + " NORMAL");
@@ -612,7 +628,7 @@ class GltfReader {
         order.resize(mesh.positions.size());
         for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
       }
-      mesh.indices = assembleTriangles(order, mode);
+      mesh.indices = assembleTriangles(std::move(order), mode);
       transformMesh(mesh, world);
       if (mesh.normals.empty()) computeSmoothNormals(mesh);
       content_.meshes.push_back(std::move(mesh));
@@ -620,10 +636,11 @@ class GltfReader {
   }
 
   // Triangle list from a vertex order (glTF 2.0 spec, section 3.7.2.1).
-  static std::vector<uint32_t> assembleTriangles(const std::vector<uint32_t>& v, int mode) {
+  static std::vector<uint32_t> assembleTriangles(std::vector<uint32_t> v, int mode) {
     std::vector<uint32_t> triangles;
     if (mode == TINYGLTF_MODE_TRIANGLES) {
-      triangles.assign(v.begin(), v.begin() + long(v.size() / 3 * 3));
+      v.resize(v.size() / 3 * 3);
+      triangles = std::move(v);  // the list as it is: no copy of a large index buffer
     } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
       for (size_t i = 0; i + 2 < v.size(); ++i)
         triangles.insert(triangles.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
@@ -635,6 +652,9 @@ class GltfReader {
 
   std::string path_;
   const tinygltf::Model& model_;
+  LoadProgress progress_;
+  std::string stage_;
+  size_t verticesToRead_ = 0, verticesRead_ = 0;
   std::vector<bool> onPath_;
   std::vector<GltfRig::Node> rigNodes_;  // per node: parent and rest transform
   std::vector<bool> visited_;
@@ -649,8 +669,11 @@ bool isDataUri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 
 }  // namespace
 
-GltfContent loadGltf(const std::string& path, const glm::mat4& transform, ContentHasher* hasher) {
+GltfContent loadGltf(const std::string& path, const glm::mat4& transform, ContentHasher* hasher,
+                     const LoadProgress& progress) {
   auto fail = [&](const std::string& problem) { throwSceneError(path, "", problem); };
+  const std::string file = std::filesystem::path(path).filename().string();
+  if (progress) progress(file + ": parsing", 0.0);
   std::string bytes, error;
   if (!readFile(path, bytes, error)) fail("cannot open glTF file: " + error);
   if (bytes.size() > size_t(std::numeric_limits<unsigned int>::max())) fail("file too large");
@@ -675,12 +698,14 @@ GltfContent loadGltf(const std::string& path, const glm::mat4& transform, Conten
   }
   if (!loaded) fail(std::string(isBinary ? "invalid glTF binary: " : "invalid glTF: ") +
                     (loadError.empty() ? "unknown error" : oneLine(withoutExceptionTags(loadError))));
+  std::string().swap(bytes);  // tinygltf copied the buffers out: the file's bytes need not wait for the meshes
 
   if (hasher) {
     for (const tinygltf::Buffer& buffer : model.buffers)
       if (!buffer.uri.empty() && !isDataUri(buffer.uri)) hasher->addBlock(buffer.data.data(), buffer.data.size());
   }
   GltfReader reader(path, model, std::move(images.kept));
+  if (progress) reader.reportTo(progress, file + ": reading meshes");
   GltfContent content = reader.read(transform);
   if (hasher)
     for (const std::string& image : reader.imageFiles()) hasher->addBlock(image);

@@ -31,7 +31,9 @@ struct GltfContent {
 // transforms and then `transform`. The format (.gltf JSON or .glb binary) is recognised by content.
 // When `hasher` is given, the file and its external buffers are added to it.
 // Throws SceneError "<path>: <problem>" on a missing file, malformed content, an out-of-range index
-// or an accessor that does not fit its buffer.
-GltfContent loadGltf(const std::string& path, const glm::mat4& transform, ContentHasher* hasher = nullptr);
+// or an accessor that does not fit its buffer. `progress` hears of the stages ("model.glb: parsing",
+// "reading meshes").
+GltfContent loadGltf(const std::string& path, const glm::mat4& transform, ContentHasher* hasher = nullptr,
+                     const LoadProgress& progress = {});
 
 }  // namespace vs

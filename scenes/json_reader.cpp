@@ -101,13 +101,31 @@ bool readFile(const std::string& path, std::string& contents, std::string& error
     error = std::strerror(errno);
     return false;
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
+  // A regular file is read straight into `contents` at its size: a scene file of hundreds of
+  // megabytes then needs its size once in memory, not three times (stream buffer, copy).
+  std::error_code sizeError;
+  const bool regular = std::filesystem::is_regular_file(path, sizeError);
+  const std::uintmax_t size = regular ? std::filesystem::file_size(path, sizeError) : 0;
+  if (regular && !sizeError) {
+    contents.resize(size_t(size));
+    in.read(contents.data(), std::streamsize(size));
+    if (in.bad() || size_t(in.gcount()) != size_t(size)) {
+      error = "read error";
+      return false;
+    }
+    if (in.peek() == std::ifstream::traits_type::eof()) return true;
+    // The file grew while it was read: read the rest as a stream.
+    in.clear();
+  } else {
+    contents.clear();
+  }
+  std::ostringstream rest;
+  rest << in.rdbuf();
   if (in.bad()) {
     error = "read error";
     return false;
   }
-  contents = buffer.str();
+  contents += rest.str();
   return true;
 }
 

@@ -17,7 +17,8 @@ namespace vs {
 // their MTL, and in-scattering does not depend on albedo): one warning "<path>:<line>: ..." is
 // added to `warnings` and its faces are opaque with the default albedo. When `hasher` is given,
 // the OBJ and its MTL files are added to it.
+// `progress` hears of the stages ("model.obj: checking", "parsing", "building meshes").
 std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, ContentHasher* hasher = nullptr,
-                          std::vector<std::string>* warnings = nullptr);
+                          std::vector<std::string>* warnings = nullptr, const LoadProgress& progress = {});
 
 }  // namespace vs

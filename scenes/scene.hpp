@@ -2,6 +2,7 @@
 #pragma once
 #include <glm/glm.hpp>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -152,16 +153,26 @@ struct Scene {
   std::vector<std::string> warnings;
 
   size_t triangleCount() const;
+  size_t vertexCount() const;
+  // The bytes the scene's own data takes in memory: mesh vertices (positions, normals, texture
+  // coordinates) and indices, alpha and light textures, volume densities.
+  size_t dataBytes() const;
   // Axis-aligned bounds of all geometry (over the whole sequence when it moves) and volume boxes;
   // a unit box around the origin when empty.
   void bounds(glm::vec3& lo, glm::vec3& hi) const;
 };
 
+// How a long load is going, for a progress bar: `stage` says what is being read ("model.obj:
+// parsing", "cleaning meshes"), `fraction` how far that stage is, in [0, 1]. Called at the start of
+// each stage and every few tens of thousands of lines or faces within it, on the loading thread.
+using LoadProgress = std::function<void(const std::string& stage, double fraction)>;
+
 // Loads a scene by built-in name (see builtinSceneNames) or by path to a .json file.
 // Throws SceneError with a one-line message on any problem.
-Scene loadScene(const std::string& nameOrPath);
+Scene loadScene(const std::string& nameOrPath, const LoadProgress& progress = {});
 // Parses scene JSON text; baseDir resolves relative glTF/texture paths; origin names it in errors.
-Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin);
+Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin,
+                     const LoadProgress& progress = {});
 
 struct BuiltinSceneInfo {
   std::string name, description;

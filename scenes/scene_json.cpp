@@ -24,6 +24,22 @@ size_t Scene::triangleCount() const {
   return total;
 }
 
+size_t Scene::vertexCount() const {
+  size_t total = 0;
+  for (const Mesh& mesh : meshes) total += mesh.positions.size();
+  return total;
+}
+
+size_t Scene::dataBytes() const {
+  size_t total = light.textureRGB.size() * sizeof(float);
+  for (const Mesh& mesh : meshes)
+    total += (mesh.positions.size() + mesh.normals.size()) * sizeof(glm::vec3) + mesh.uvs.size() * sizeof(glm::vec2) +
+             mesh.indices.size() * sizeof(uint32_t);
+  for (const AlphaTexture& t : alphaTextures) total += t.alpha.size() * sizeof(float);
+  for (const Volume& v : volumes) total += v.density.size() * sizeof(float);
+  return total;
+}
+
 void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
   lo = glm::vec3(std::numeric_limits<float>::max());
   hi = glm::vec3(std::numeric_limits<float>::lowest());
@@ -270,7 +286,8 @@ struct GeometryResult {
   std::vector<std::string> warnings;
 };
 
-void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher, GeometryResult& out) {
+void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHasher& hasher, GeometryResult& out,
+                       const LoadProgress& progress) {
   const std::string& origin = entry.location().origin;
   entry.declare({"name", "generator", "params", "albedo", "gltf", "obj", "translate", "scale", "rotate_y_deg", "opacity",
                  "transmittance_color"});
@@ -288,6 +305,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     for (const char* key : {"translate", "scale", "rotate_y_deg"}) entry.forbid(key, gltfOnly);
     entry.forbid("obj", "an entry has one of 'generator', 'gltf' or 'obj'");
     entry.finish();
+    if (progress) progress("generating " + generator, 0.0);
     std::vector<Mesh> meshes = generateMeshes(generator, params ? *params : Json::object(), origin,
                                               entry.locationOf("generator").path, entry.locationOf("params").path);
     for (Mesh& mesh : meshes) {
@@ -305,7 +323,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     glm::mat4 where = readFilePlacement(entry, "baseColorFactor, alphaMode");
     GltfContent content;
     try {
-      content = loadGltf(resolvePath(baseDir, file), where, &hasher);
+      content = loadGltf(resolvePath(baseDir, file), where, &hasher, progress);
     } catch (const SceneError& e) {
       entry.fail("gltf", e.what());
     }
@@ -331,7 +349,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     glm::mat4 where = readFilePlacement(entry, "Kd, d or Tr");
     std::vector<Mesh> meshes;
     try {
-      meshes = loadObj(resolvePath(baseDir, file), where, &hasher, &out.warnings);
+      meshes = loadObj(resolvePath(baseDir, file), where, &hasher, &out.warnings, progress);
     } catch (const SceneError& e) {
       entry.fail("obj", e.what());
     }
@@ -569,7 +587,8 @@ std::string sceneNameFromOrigin(const std::string& origin) {
 
 }  // namespace
 
-Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin) {
+Scene parseSceneJson(const std::string& text, const std::string& baseDir, const std::string& origin,
+                     const LoadProgress& progress) {
   Json document = parseJsonStrict(text, origin);
   ObjectReader root(document, JsonLocation{origin, ""});
   for (const char* key : {"description", "geometry", "camera", "light", "medium", "volumes", "animation"}) root.has(key);
@@ -595,7 +614,7 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
   std::vector<std::shared_ptr<const GltfRig>> entryRigs(geometry.size());
   for (size_t i = 0; i < geometry.size(); ++i) {
     result.rig.reset();
-    readGeometryEntry(ObjectReader(geometry[i], geometryAt.item(i)), baseDir, hasher, result);
+    readGeometryEntry(ObjectReader(geometry[i], geometryAt.item(i)), baseDir, hasher, result, progress);
     meshEntry.resize(result.meshes.size(), i);
     result.meshNode.resize(result.meshes.size(), -1);
     entryRigs[i] = result.rig;
@@ -627,8 +646,13 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
     const Json& name = geometry[i].is_object() && geometry[i].contains("name") ? geometry[i]["name"] : Json();
     entries.names.push_back(name.is_string() ? name.get<std::string>() : "");
   }
+  const std::string cleaning = "cleaning meshes";
+  size_t trianglesToClean = 0, trianglesCleaned = 0;
+  for (const Mesh& mesh : result.meshes) trianglesToClean += mesh.triangleCount();
   for (size_t i = 0; i < result.meshes.size(); ++i) {
     Mesh& mesh = result.meshes[i];
+    if (progress) progress(cleaning, trianglesToClean ? double(trianglesCleaned) / double(trianglesToClean) : 0.0);
+    trianglesCleaned += mesh.triangleCount();
     scene.droppedTriangles += sanitizeMesh(mesh);
     if (mesh.triangleCount() == 0) continue;
     entries.meshes[meshEntry[i]].push_back(scene.meshes.size());
@@ -649,10 +673,10 @@ Scene parseSceneJson(const std::string& text, const std::string& baseDir, const 
   return scene;
 }
 
-Scene loadScene(const std::string& nameOrPath) {
+Scene loadScene(const std::string& nameOrPath, const LoadProgress& progress) {
   for (const auto& [name, text] : builtinSceneSources()) {
     if (name != nameOrPath) continue;
-    return parseSceneJson(text, "", kBuiltinPrefix + name);
+    return parseSceneJson(text, "", kBuiltinPrefix + name, progress);
   }
   std::string text, error;
   if (!readFile(nameOrPath, text, error)) {
@@ -667,7 +691,7 @@ Scene loadScene(const std::string& nameOrPath) {
     }
     throwSceneError(nameOrPath, "", "cannot open scene file: " + error + hint);
   }
-  return parseSceneJson(text, fs::path(nameOrPath).parent_path().string(), nameOrPath);
+  return parseSceneJson(text, fs::path(nameOrPath).parent_path().string(), nameOrPath, progress);
 }
 
 std::vector<BuiltinSceneInfo> builtinScenes() {

@@ -1067,6 +1067,63 @@ TEST(Obj, AMissingMaterialLibraryOrMaterialIsAWarningNotAnError) {
   EXPECT_TRUE(parse(sceneText(R"({"obj": ")" + dir.file("plain.obj") + R"("})")).warnings.empty());
 }
 
+// Vertices are shared within a mesh by (position, normal): a position used with two normals is two
+// vertices, and a position used by two materials is a vertex in each of their meshes.
+TEST(Obj, VerticesAreSharedPerMeshAndNormal) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 1 0\n");
+  dir.write("m.obj",
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 0 0.6 0.8\n"
+            "usemtl a\nf 1//1 2//1 3//1\nf 2//1 4//1 3//1\nf 1//2 2//2 3//2\n"
+            "usemtl b\nf 2//1 4//1 3//1\nusemtl a\nf 3//1 2//1 4//1\n");
+  Scene s = parse(sceneText(R"({"obj": ")" + dir.file("m.obj") + R"("})"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  const vs::Mesh& a = s.meshes[0].name.find("/a") != std::string::npos ? s.meshes[0] : s.meshes[1];
+  const vs::Mesh& b = &a == &s.meshes[0] ? s.meshes[1] : s.meshes[0];
+  EXPECT_EQ(a.triangleCount(), 4u);
+  EXPECT_EQ(a.positions.size(), 7u);  // 4 positions with normal 1, 3 with normal 2
+  EXPECT_EQ(a.indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2, 4, 5, 6, 2, 1, 3}));
+  EXPECT_EQ(b.triangleCount(), 1u);
+  EXPECT_EQ(b.positions.size(), 3u);
+  EXPECT_EQ(b.indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+// A long load says how it is going: every stage of an OBJ and a glTF file and the cleaning, with
+// fractions in [0, 1] that never go back within a stage; the scene's sizes are what it holds.
+TEST(Loading, ReportsItsStagesAndTheScenesSize) {
+  TempDir dir;
+  std::string obj = "mtllib none.mtl\n";
+  const int n = 300;  // 2 n^2 = 180,000 triangles: past the reporting stride of every stage
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) obj += "v " + std::to_string(i) + " 0 " + std::to_string(j) + "\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int a = j * (n + 1) + i + 1, c = a + n + 1;
+      obj += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(a + 1) + "\nf " +
+             std::to_string(a + 1) + " " + std::to_string(c) + " " + std::to_string(c + 1) + "\n";
+    }
+  dir.write("grid.obj", obj);
+  std::string gltf = vs::testing::writeAlphaQuadGltf(dir.file(""), "quad", "BLEND", 0.0, 2, 1, {0.25f, 1.0f}, 2.0, 1.0, "glb");
+  std::string path = dir.write("big.json", sceneText(R"({"obj": "grid.obj"}, {"gltf": ")" + gltf + R"("})"));
+  std::vector<std::pair<std::string, double>> calls;
+  Scene s = vs::loadScene(path, [&](const std::string& stage, double fraction) { calls.emplace_back(stage, fraction); });
+  std::vector<std::string> stages;
+  for (size_t i = 0; i < calls.size(); ++i) {
+    EXPECT_GE(calls[i].second, 0.0);
+    EXPECT_LE(calls[i].second, 1.0);
+    if (stages.empty() || stages.back() != calls[i].first) stages.push_back(calls[i].first);
+    else EXPECT_GE(calls[i].second, calls[i - 1].second) << calls[i].first;
+  }
+  EXPECT_EQ(stages, (std::vector<std::string>{"grid.obj: checking", "grid.obj: parsing", "grid.obj: building meshes",
+                                              "quad.glb: parsing", "quad.glb: reading meshes", "cleaning meshes"}));
+  EXPECT_GT(calls.size(), 10u);
+  EXPECT_EQ(s.triangleCount(), size_t(2 * n * n + 2));
+  EXPECT_EQ(s.vertexCount(), size_t((n + 1) * (n + 1) + 4));
+  // Positions and normals (12 bytes each), indices (4), the quad's uvs (8) and its 2x1 alpha texture.
+  EXPECT_EQ(s.dataBytes(), s.vertexCount() * 24 + s.triangleCount() * 12 + 4 * 8 + 2 * 4);
+  EXPECT_EQ(vs::loadScene(path).triangleCount(), s.triangleCount());  // without a listener
+}
+
 TEST(Obj, MalformedLinesAndMissingFilesAreOneLineErrorsWithLineNumbers) {
   TempDir dir;
   auto objError = [&](const std::string& text) {
