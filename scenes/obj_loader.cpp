@@ -171,6 +171,22 @@ MaterialStatements validate(const std::string& path, const std::string& text, co
   return statements;
 }
 
+// Checks the material statements the loader uses: tinyobjloader reads a value that is not a number
+// as 0, which would make an unreadable `d` an invisible surface and an unreadable `Kd` black.
+void validateMtl(const std::string& path, const std::string& text) {
+  forEachLine(text, {}, [&](size_t number, const std::vector<Token>& t) {
+    const char* what = t[0].is("Kd") ? "diffuse colour 'Kd'" : t[0].is("d") ? "dissolve 'd'" : t[0].is("Tr") ? "transparency 'Tr'" : nullptr;
+    if (!what) return;
+    const size_t wanted = t[0].is("Kd") ? 3 : 1;
+    auto fail = [&](const std::string& problem) { throwSceneError(path + ":" + std::to_string(number), "", problem); };
+    if (t.size() - 1 != wanted)
+      fail(std::string(what) + " needs " + std::to_string(wanted) + (wanted == 1 ? " number" : " numbers") + ", got " +
+           std::to_string(t.size() - 1));
+    for (size_t i = 1; i < t.size(); ++i)
+      if (!isNumber(t[i])) fail(std::string(what) + ": '" + t[i].str() + "' is not a finite number");
+  });
+}
+
 // The OBJ text as a stream for tinyobjloader without a copy, handed over in windows so that each
 // refill reports how far the parse has come.
 class WindowedText : public std::streambuf {
@@ -266,6 +282,7 @@ std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, C
                      "): its materials are opaque with the default albedo");
       continue;
     }
+    validateMtl(mtlPath, contents);
     if (hasher) hasher->addBlock(contents);
     mtlText += contents + "\n";
   }

@@ -16,7 +16,8 @@ namespace vs {
 // be read, or a `usemtl` the libraries lack, is not an error (downloaded OBJs often come without
 // their MTL, and in-scattering does not depend on albedo): one warning "<path>:<line>: ..." is
 // added to `warnings` and its faces are opaque with the default albedo. When `hasher` is given,
-// the OBJ and its MTL files are added to it.
+// the OBJ and its MTL files are added to it. In the MTL files, a `Kd`, `d` or `Tr` whose values are
+// not numbers is a SceneError "<mtl path>:<line>: <problem>" (tinyobjloader would read them as 0).
 // `progress` hears of the stages ("model.obj: checking", "parsing", "building meshes").
 std::vector<Mesh> loadObj(const std::string& path, const glm::mat4& transform, ContentHasher* hasher = nullptr,
                           std::vector<std::string>* warnings = nullptr, const LoadProgress& progress = {});

@@ -1067,6 +1067,31 @@ TEST(Obj, AMissingMaterialLibraryOrMaterialIsAWarningNotAnError) {
   EXPECT_TRUE(parse(sceneText(R"({"obj": ")" + dir.file("plain.obj") + R"("})")).warnings.empty());
 }
 
+// tinyobjloader reads a material value that is not a number as 0: an unreadable `d` would make an
+// invisible surface and an unreadable `Kd` a black one. Such a line is an error naming the MTL
+// file and line, like a malformed OBJ line.
+TEST(Obj, MaterialValuesThatAreNotNumbersAreErrorsWithTheirLine) {
+  TempDir dir;
+  dir.write("glass.obj", "mtllib glass.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glass\nf 1 2 3\n");
+  auto mtlError = [&](const std::string& mtl) {
+    dir.write("glass.mtl", mtl);
+    return loadError(dir, sceneText(R"({"obj": "glass.obj"})"));
+  };
+  expectErrorMentions(mtlError("newmtl glass\nKd 0.2 0.3 0.4\nd abc\n"),
+                      {"geometry[0].obj", "glass.mtl:3", "dissolve 'd'", "'abc' is not a finite number"});
+  expectErrorMentions(mtlError("newmtl glass\nTr 0,5\n"), {"glass.mtl:2", "transparency 'Tr'", "'0,5'"});
+  expectErrorMentions(mtlError("# colour\nnewmtl glass\nKd 0.2 grey 0.4\n"), {"glass.mtl:3", "'Kd'", "'grey'"});
+  expectErrorMentions(mtlError("newmtl glass\nd\n"), {"glass.mtl:2", "needs 1 number, got 0"});
+  expectErrorMentions(mtlError("newmtl glass\nd 1e999\n"), {"glass.mtl:2", "'1e999'"});
+  expectErrorMentions(mtlError("newmtl glass\nKd 0.5\n"), {"glass.mtl:2", "needs 3 numbers, got 1"});
+  // Readable values load as before, comments and other statements left alone.
+  dir.write("glass.mtl", "# the pane\nnewmtl glass\nKd 0.2 0.3 0.4\nd 0.25 # mostly clear\nillum 2\nmap_Kd glass.png\n");
+  Scene s = parse(sceneText(R"({"obj": ")" + dir.file("glass.obj") + R"("})"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_FLOAT_EQ(s.meshes[0].opacity, 0.25f);
+  EXPECT_FLOAT_EQ(s.meshes[0].albedo.g, 0.3f);
+}
+
 // Vertices are shared within a mesh by (position, normal): a position used with two normals is two
 // vertices, and a position used by two materials is a vertex in each of their meshes.
 TEST(Obj, VerticesAreSharedPerMeshAndNormal) {
