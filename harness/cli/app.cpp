@@ -23,6 +23,7 @@
 #include "harness/evaluation/ground_truth.hpp"
 #include "harness/evaluation/metrics.hpp"
 #include "harness/cli/progress.hpp"
+#include "harness/cli/scene_load.hpp"
 #include "harness/io/results.hpp"
 #include "harness/pipeline/runner.hpp"
 #include "harness/evaluation/step_search.hpp"
@@ -147,6 +148,7 @@ namespace {
 struct RunPlan {
   int width = 0, height = 0;
   Scene scene;
+  SceneLoad sceneLoad;  // what loading `scene` took (meta.json "scene_load")
   // The scene at the time of the frame whose images are compared (the last one): the reference's
   // and the ground truth's scene. The same as `scene` when it does not move.
   Scene stillScene;
@@ -387,7 +389,7 @@ std::vector<size_t> pickRungs(const std::vector<std::string>& rungs, size_t size
 RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegistry& registry) {
   RunPlan plan;
   parseSize(req.size, plan.width, plan.height);
-  plan.scene = loadScene(req.scene);
+  plan.scene = loadSceneMeasured(req.scene, plan.sceneLoad);
   for (const std::string& warning : plan.scene.warnings) std::fprintf(stderr, "vshadow: warning: %s\n", warning.c_str());
   plan.effects = deriveEffects(plan.scene);
   // A moving scene is compared at the time of the last frame, the one whose images are read back.
@@ -528,6 +530,7 @@ json metaJson(const RunRequest& req, const RunPlan& plan, const ContextInfo& inf
         {"ssim", "Wang et al. 2004 on Rec.709 luminance, 11x11 Gaussian sigma 1.5, K1 0.01, K2 0.03, L = psnr_peak"},
         {"unstable_mdape_pct", 5.0}}},
       {"scene_warnings", plan.scene.warnings},  // what loading assumed (scenes/README.md)
+      {"scene_load", toJson(plan.sceneLoad)},   // time and memory of the load
       {"status", "running"},
       {"jobs", plan.jobs.size()},
   };

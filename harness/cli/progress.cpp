@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <utility>
 
 namespace vs {
 
@@ -58,6 +59,41 @@ void Progress::note(const std::string& line) {
   if (tty_) std::fprintf(stderr, "\r\033[K");
   std::fprintf(stderr, "%s\n", line.c_str());
   draw();
+}
+
+StepProgress::StepProgress(std::string title, std::chrono::milliseconds delay)
+    : tty_(::isatty(2) != 0), title_(std::move(title)), delay_(delay), start_(std::chrono::steady_clock::now()) {}
+
+StepProgress::~StepProgress() { clear(); }
+
+void StepProgress::update(const std::string& stage, double fraction) {
+  if (!tty_ || finished_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - start_ < delay_ || (drawn_ && now - lastDraw_ < std::chrono::milliseconds(100))) return;
+  lastDraw_ = now;
+  drawn_ = true;
+  const int width = 30;
+  fraction = fraction > 0.0 ? (fraction < 1.0 ? fraction : 1.0) : 0.0;
+  std::string bar(size_t(fraction * width + 0.5), '#');
+  bar.resize(width, '.');
+  std::fprintf(stderr, "\r\033[K[%s] %s: %s %d%%", bar.c_str(), title_.c_str(), stage.c_str(), int(fraction * 100.0));
+  std::fflush(stderr);
+}
+
+void StepProgress::clear() {
+  if (!drawn_) return;
+  std::fprintf(stderr, "\r\033[K");
+  std::fflush(stderr);
+  drawn_ = false;
+}
+
+void StepProgress::finish(const std::string& summary) {
+  if (finished_) return;
+  finished_ = true;
+  clear();
+  if (tty_ || std::chrono::steady_clock::now() - start_ < 4 * delay_) return;
+  std::fprintf(stderr, "%s: %s\n", title_.c_str(), summary.c_str());
+  std::fflush(stderr);
 }
 
 }  // namespace vs

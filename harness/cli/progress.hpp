@@ -25,4 +25,23 @@ class Progress {
   std::string label_;
 };
 
+// The progress of one long step in stages (loading a scene). On a terminal: a bar on stderr once
+// the step has run for `delay` (a quick step draws nothing), redrawn at most ten times a second,
+// cleared by finish() or the destructor. Otherwise nothing while it runs, and finish() prints one
+// line when the step took longer than `delay` x 4 (logs of long batch runs say where time went).
+class StepProgress {
+ public:
+  explicit StepProgress(std::string title, std::chrono::milliseconds delay = std::chrono::milliseconds(250));
+  ~StepProgress();
+  void update(const std::string& stage, double fraction);  // `fraction` of `stage` done, in [0, 1]
+  void finish(const std::string& summary);                 // "title: summary" (see above)
+
+ private:
+  void clear();
+  bool tty_, drawn_ = false, finished_ = false;
+  std::string title_;
+  std::chrono::milliseconds delay_;
+  std::chrono::steady_clock::time_point start_, lastDraw_;
+};
+
 }  // namespace vs

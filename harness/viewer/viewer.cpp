@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "harness/cli/app.hpp"
+#include "harness/cli/scene_load.hpp"
 #include "harness/evaluation/metrics.hpp"
 #include "harness/io/results.hpp"
 #include "harness/pipeline/runner.hpp"
@@ -1001,7 +1002,8 @@ int viewChecked(const ViewRequest& req, const MethodRegistry& registry) {
   // Bad input is caught before a window opens.
   int width = 0, height = 0;
   parseSize(req.size, width, height);
-  Scene scene = loadScene(req.scene);
+  SceneLoad loaded;
+  Scene scene = loadSceneMeasured(req.scene, loaded);  // a bar on a terminal while a large scene loads
   std::vector<std::string> specs = req.methods;
   if (specs.empty())
     for (const auto& info : registry) specs.push_back(info.name);
