@@ -1,5 +1,6 @@
 #include "bad_inputs.hpp"
 
+#include "fixtures.hpp"
 #include "gl_test.hpp"
 
 namespace vs::testing {
@@ -62,6 +63,13 @@ const std::vector<BadInput>& badInputs() {
        "geometry opacity outside [0, 1]"},
       {"area_light_size_zero", {"run", "--scene", "%DIR%/flat-light.json", "--method", "raymarch"}, "light.width",
        "rect light of width 0"},
+      {"corrupt_embedded_image", {"run", "--scene", "%DIR%/corrupt-image.json", "--method", "raymarch"}, "corrupt PNG",
+       "glTF whose embedded (buffer-view) alpha texture is a corrupt PNG"},
+      {"data_uri_not_an_image", {"run", "--scene", "%DIR%/data-uri-text.json", "--method", "raymarch"}, "cannot decode",
+       "glTF whose data: URI image holds text, not an image"},
+      {"mtl_dissolve_not_a_number", {"run", "--scene", "%DIR%/mtl-d.json", "--method", "raymarch"}, "glass.mtl:3",
+       "OBJ whose MTL sets `d` to a word, not a number"},
+      // An OBJ without its MTL is not bad input: it loads with a warning (tests/cli_tests.cpp).
       {"unwritable_output", {"run", "--scene", "spheres", "--method", "raymarch", "--out", "%DIR%/a-file/results"},
        "a-file/results", "--out below a regular file (cannot be created)"},
   };
@@ -100,6 +108,23 @@ void writeBadInputFixtures(const std::string& dir) {
   for (int i = 0; i < 5; ++i) five += std::string(i ? ", " : "") + R"({"dims": [1, 1, 1], "density": [1], )" + box + "}";
   writeFile(dir + "/five-volumes.json", volumeScene(five));
   writeFile(dir + "/opacity.json", R"({"geometry": [{"generator": "plane", "opacity": 2}], )" + camera + ", " + light + "}");
+  // Embedded alpha textures that cannot be decoded: a .glb whose PNG (in a buffer view) is cut to
+  // garbage after its header, and a .gltf whose data: URI image is text.
+  const std::vector<float> alpha = {0.25f, 1.0f, 0.5f, 0.0f};
+  std::string glb = readFile(writeAlphaQuadGltf(dir, "corrupt-image", "BLEND", 0.0, 2, 2, alpha, 2.0, 1.0, "glb"));
+  for (size_t i = glb.find("\x89PNG") + 16; i < glb.size(); ++i) glb[i] = 'x';  // past the signature and IHDR length
+  writeFile(dir + "/corrupt-image.glb", glb);
+  writeFile(dir + "/corrupt-image.json", R"({"geometry": [{"gltf": "corrupt-image.glb"}], )" + camera + ", " + light + "}");
+  std::string gltf = readFile(writeAlphaQuadGltf(dir, "data-uri-text", "BLEND", 0.0, 2, 2, alpha, 2.0, 1.0, "data-uri"));
+  const std::string prefix = "data:image/png;base64,";
+  const size_t uri = gltf.find(prefix) + prefix.size();
+  gltf.replace(uri, gltf.find('"', uri) - uri, base64({'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'a', 'g', 'e'}));
+  writeFile(dir + "/data-uri-text.gltf", gltf);
+  writeFile(dir + "/data-uri-text.json", R"({"geometry": [{"gltf": "data-uri-text.gltf"}], )" + camera + ", " + light + "}");
+  // An MTL whose dissolve is a word: tinyobjloader would read 0, an invisible surface.
+  writeFile(dir + "/glass.obj", "mtllib glass.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glass\nf 1 2 3\n");
+  writeFile(dir + "/glass.mtl", "newmtl glass\nKd 0.2 0.3 0.4\nd half\n");
+  writeFile(dir + "/mtl-d.json", R"({"geometry": [{"obj": "glass.obj"}], )" + camera + ", " + light + "}");
   writeFile(dir + "/flat-light.json", R"({"geometry": [], )" + camera +
                                           R"(, "light": {"type": "rect", "position": [0, 3, 0], "direction": [0, -1, 0], "width": 0, "height": 1, "intensity": 1}})");
 }
