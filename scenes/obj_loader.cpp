@@ -12,8 +12,10 @@
 #include <istream>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 #include <streambuf>
+#include <string_view>
 
 #include "scenes/json_reader.hpp"
 #include "scenes/mesh_utils.hpp"
@@ -108,7 +110,7 @@ void forEachLine(const std::string& text, const std::function<void(double)>& pro
 
 // The statements that name materials, with their line numbers.
 struct MaterialStatements {
-  std::vector<std::pair<std::string, size_t>> mtllibs, usemtls;  // (name, line)
+  std::vector<std::pair<std::string, size_t>> mtllibs, usemtls;  // (name, line); usemtls: each name once
 };
 
 // Checks the statements tinyobjloader would read leniently, so that a broken file is an error with
@@ -119,6 +121,7 @@ MaterialStatements validate(const std::string& path, const std::string& text, co
   };
   long vertices = 0, normals = 0, texcoords = 0;
   MaterialStatements statements;
+  std::set<std::string, std::less<>> used;  // names in usemtls (exporters may say usemtl before every face)
   forEachLine(text, progress, [&](size_t number, const std::vector<Token>& t) {
     const Token& key = t[0];
     auto numbers = [&](size_t lo, size_t hi, const char* what) {
@@ -165,7 +168,11 @@ MaterialStatements validate(const std::string& path, const std::string& text, co
       if (t.size() < 2) fail(number, "'mtllib' needs a file name");
       for (size_t i = 1; i < t.size(); ++i) statements.mtllibs.emplace_back(t[i].str(), number);
     } else if (key.is("usemtl") && t.size() >= 2) {
-      statements.usemtls.emplace_back(t[1].str(), number);
+      const std::string_view name(t[1].begin, size_t(t[1].end - t[1].begin));
+      if (used.find(name) == used.end()) {
+        used.emplace(name);
+        statements.usemtls.emplace_back(std::string(name), number);
+      }
     }
   });
   return statements;
