@@ -86,10 +86,10 @@ class Tracer {
     glm::vec2 uv = (1.0f - hit.u - hit.v) * mesh.uvs[tri[0]] + hit.u * mesh.uvs[tri[1]] + hit.v * mesh.uvs[tri[2]];
     return mesh.opacityAt(scene_.alphaTextures[size_t(mesh.alphaTexture)].sample(uv));
   }
-  // A masked texel the camera sees through.
+  // A texel of no opacity the camera sees through (MASK cut out, BLEND alpha 0), as the G buffer.
   bool cutOut(const RTCHit& hit) const {
     const Mesh& mesh = *meshes_[hit.geomID];
-    return mesh.alphaTexture >= 0 && mesh.alphaCutoff >= 0.0f && opacityAt(hit) <= 0.0;
+    return mesh.alphaTexture >= 0 && opacityAt(hit) <= 0.0;
   }
 
   Hit intersect(dvec3 origin, dvec3 dir, double tfar) const {

@@ -33,8 +33,9 @@ const float PI = 3.14159265358979323846;
 // Opacity of a surface point from the vertex attribute `alpha` (x texture or -1, y MASK cutoff or
 // -1, z opacity) and its texture coordinate: scenes/scene.hpp, Mesh::opacityAt.
 float surfaceOpacity(vec3 alpha, vec2 uv) {
-  float a = alpha.z * (alpha.x >= 0.0 ? textureLod(alphaTexture, uv, 0.0).r : 1.0);
-  return alpha.y >= 0.0 ? (a < alpha.y ? 0.0 : 1.0) : a;
+  // x and y are -1 or >= 0, the same at every vertex of a mesh but interpolated: compared with -0.5.
+  float a = alpha.z * (alpha.x > -0.5 ? textureLod(alphaTexture, uv, 0.0).r : 1.0);
+  return alpha.y > -0.5 ? (a < alpha.y ? 0.0 : 1.0) : a;
 }
 const int LIGHT_POINT = 0;
 const int LIGHT_SPOT = 1;

@@ -9,7 +9,9 @@ layout(location = 0) out vec4 outPosition;
 layout(location = 1) out vec4 outNormal;
 layout(location = 2) out vec4 outAlbedo;
 void main() {
-  if (vAlpha.y >= 0.0 && surfaceOpacity(vAlpha, vUv) <= 0.0) discard;  // alpha-masked cut-outs
+  // The camera sees through texels of no opacity (MASK cut-outs, BLEND alpha 0); every other
+  // surface is its first hit (a semi-transparent one too: README, "What is computed").
+  if (vAlpha.x > -0.5 && surfaceOpacity(vAlpha, vUv) <= 0.0) discard;
   vec3 toEye = u.eye.xyz - vPosition;
   vec3 n = vNormal;
   float len = length(n);

@@ -23,7 +23,7 @@ void main() {
     float o = surfaceOpacity(vAlpha, vUv);
     if (o <= 0.0) discard;
     vec4 bin = slicemap.classBin[voxelClass];
-    bool perTexel = vAlpha.x >= 0.0 && vAlpha.y < 0.0;  // alpha-textured BLEND: opacity bins
+    bool perTexel = vAlpha.x > -0.5 && vAlpha.y < -0.5;  // alpha-textured BLEND: opacity bins
     if (perTexel) {
       // The bin of this opacity (none below the minimum), and the class's tint.
       float span = max(1.0 - bin.z, 1e-6);
