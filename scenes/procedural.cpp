@@ -41,6 +41,11 @@ class MeshBuilder {
     return uint32_t(mesh_.positions.size() - 1);
   }
   uint32_t vertex(const Vertex& v) { return vertex(v.position, v.normal); }
+  // A vertex with a texture coordinate: a mesh built with these has one per vertex.
+  uint32_t vertex(const glm::vec3& position, const glm::vec3& normal, const glm::vec2& uv) {
+    mesh_.uvs.push_back(uv);
+    return vertex(position, normal);
+  }
 
   void triangle(uint32_t a, uint32_t b, uint32_t c) {
     const auto& p = mesh_.positions;
@@ -488,11 +493,33 @@ Mesh makeLeafCards(const LeafCardsParams& p) {
     glm::vec3 t = glm::normalize(glm::cross(n, std::fabs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0)));
     glm::vec3 b = glm::cross(n, t);
     float h = 0.5f * p.size;
-    uint32_t a = builder.vertex(c - h * t - h * b, n), bb = builder.vertex(c + h * t - h * b, n);
-    uint32_t cc = builder.vertex(c + h * t + h * b, n), d = builder.vertex(c - h * t + h * b, n);
+    uint32_t a = builder.vertex(c - h * t - h * b, n, {0, 1}), bb = builder.vertex(c + h * t - h * b, n, {1, 1});
+    uint32_t cc = builder.vertex(c + h * t + h * b, n, {1, 0}), d = builder.vertex(c - h * t + h * b, n, {0, 0});
     builder.quad(a, bb, cc, d);
   }
   return builder.take();
+}
+
+AlphaTexture makeLeafAlphaTexture(int size) {
+  AlphaTexture t;
+  t.width = t.height = std::max(size, 4);
+  t.alpha.resize(size_t(t.width) * size_t(t.height));
+  const float texel = 2.0f / float(t.width);  // in the blade's [-1, 1] coordinates
+  for (int j = 0; j < t.height; ++j)
+    for (int i = 0; i < t.width; ++i) {
+      // Along the blade y (tip at +1, stalk at -1), across it x.
+      float x = (float(i) + 0.5f) * texel - 1.0f, y = 1.0f - (float(j) + 0.5f) * texel;
+      float halfWidth = 0.6f * std::pow(std::max(1.0f - y * y, 0.0f), 0.75f) * (1.0f - 0.25f * y);
+      float inside = std::clamp((halfWidth - std::fabs(x)) / (2.0f * texel), 0.0f, 1.0f);
+      // The midrib and three pairs of side veins running to the rim, thinner than the blade.
+      float vein = std::fabs(x) < 0.6f * texel ? 1.0f : 0.0f;
+      for (float start : {-0.5f, 0.0f, 0.5f}) {
+        float along = y - start - 0.8f * std::fabs(x);
+        vein = std::max(vein, std::fabs(along) < 0.7f * texel && std::fabs(x) < 0.8f * halfWidth ? 1.0f : 0.0f);
+      }
+      t.alpha[size_t(j) * size_t(t.width) + size_t(i)] = inside * (vein > 0.0f ? 0.3f : 0.6f);
+    }
+  return t;
 }
 
 Mesh makeLayers(const LayersParams& p) {

@@ -139,7 +139,12 @@ struct LeafCardsParams {     // square cards scattered in an ellipsoidal crown, 
   float size = 0.3f;         // card side
   uint32_t seed = 1;
 };
-Mesh makeLeafCards(const LeafCardsParams& p);
+Mesh makeLeafCards(const LeafCardsParams& p);  // texture coordinates 0..1 across each card
+
+// Alpha channel of a leaf seen flat on its card (size x size texels): a pointed elliptic blade
+// of opacity 0.6 with thinner veins (0.3) and a soft rim falling to 0 over two texels, nothing
+// outside it. For leaf cards ("alpha_texture": {"pattern": "leaf"} in a scene's geometry entry).
+AlphaTexture makeLeafAlphaTexture(int size);
 
 struct LayersParams {        // `count` horizontal squares stacked `spacing` apart, lowest at center
   glm::vec3 center{0.0f};

@@ -290,7 +290,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
                        const LoadProgress& progress) {
   const std::string& origin = entry.location().origin;
   entry.declare({"name", "generator", "params", "albedo", "gltf", "obj", "translate", "scale", "rotate_y_deg", "opacity",
-                 "transmittance_color"});
+                 "transmittance_color", "alpha_texture"});
   bool isGenerator = entry.has("generator"), isGltf = entry.has("gltf"), isObj = entry.has("obj");
   std::string name = entry.string("name", "");
   const std::string gltfOnly = "only used by glTF and OBJ entries";
@@ -302,6 +302,18 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
     glm::vec3 albedo = entry.vec3("albedo", Mesh().albedo, Range::closed(0.0, 1.0));
     float opacity = float(entry.number("opacity", 1.0, Range::closed(0.0, 1.0)));
     glm::vec3 transmittanceColor = entry.vec3("transmittance_color", glm::vec3(0.0f), Range::closed(0.0, 1.0));
+    // A procedural alpha texture (BLEND: opacity x texel alpha) over the generator's texture coordinates.
+    int alphaTexture = -1;
+    if (const Json* texture = entry.optional("alpha_texture")) {
+      ObjectReader t(*texture, entry.locationOf("alpha_texture"));
+      t.choice("pattern", {"leaf"}, "leaf");
+      int size = int(t.integer("size", 64, 4, 4096));
+      t.finish();
+      if (generator != "leaf_cards")
+        entry.fail("alpha_texture", "needs texture coordinates: only the leaf_cards generator has them");
+      alphaTexture = int(out.alphaTextures.size());
+      out.alphaTextures.push_back(makeLeafAlphaTexture(size));
+    }
     for (const char* key : {"translate", "scale", "rotate_y_deg"}) entry.forbid(key, gltfOnly);
     entry.forbid("obj", "an entry has one of 'generator', 'gltf' or 'obj'");
     entry.finish();
@@ -312,6 +324,7 @@ void readGeometryEntry(ObjectReader entry, const std::string& baseDir, ContentHa
       mesh.albedo = albedo;
       mesh.opacity = opacity;
       mesh.transmittanceColor = transmittanceColor;
+      mesh.alphaTexture = alphaTexture;
       if (!name.empty()) mesh.name = name;
       out.meshes.push_back(std::move(mesh));
     }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -1394,6 +1395,39 @@ std::string gltfMotionScene(const std::string& motion) {
   return sceneText(R"({"name": "rig", "gltf": "animated.gltf", "translate": [0, 0, 5]},
     {"name": "ball", "generator": "sphere", "params": {"center": [4, 1, 0], "radius": 0.5}})",
                    kPointLight, R"("animation": {"duration": 2, "fps": 2, "geometry": [)" + motion + "]}");
+}
+
+// Leaf cards with a procedural leaf alpha texture (the built-in foliage_alpha): per-vertex texture
+// coordinates across each card, a BLEND texture of the blade, veins, rim and nothing around them.
+TEST(Procedural, LeafCardsTakeAProceduralLeafAlphaTexture) {
+  Scene scene = parse(sceneText(R"({"name": "leaves", "generator": "leaf_cards", "params": {"count": 20},
+                                    "alpha_texture": {"pattern": "leaf", "size": 32}})"));
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const vs::Mesh& leaves = scene.meshes[0];
+  ASSERT_EQ(leaves.alphaTexture, 0);
+  EXPECT_LT(leaves.alphaCutoff, 0.0f);  // BLEND
+  EXPECT_FALSE(leaves.isOpaque());
+  ASSERT_EQ(leaves.uvs.size(), leaves.positions.size());
+  ASSERT_EQ(scene.alphaTextures.size(), 1u);
+  const vs::AlphaTexture& leaf = scene.alphaTextures[0];
+  ASSERT_EQ(leaf.width, 32);
+  ASSERT_EQ(leaf.alpha.size(), 32u * 32u);
+  std::set<float> levels(leaf.alpha.begin(), leaf.alpha.end());
+  EXPECT_EQ(*levels.begin(), 0.0f);    // around the blade
+  EXPECT_EQ(*levels.rbegin(), 0.6f);   // the blade
+  EXPECT_TRUE(levels.count(0.3f));     // the veins
+  EXPECT_GT(levels.size(), 3u);        // and the rim between
+  EXPECT_EQ(leaf.sample({0.5f, 0.5f}), 0.3f);  // the midrib at the centre
+  EXPECT_EQ(leaf.sample({0.02f, 0.5f}), 0.0f);  // beside the blade
+
+  TempDir dir;
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "plane", "alpha_texture": {"pattern": "leaf"}})")),
+                      {"alpha_texture", "leaf_cards"});
+  expectErrorMentions(loadError(dir, sceneText(R"({"generator": "leaf_cards", "alpha_texture": {"pattern": "bark"}})")),
+                      {"pattern", "leaf"});
+  expectErrorMentions(
+      loadError(dir, sceneText(R"({"generator": "leaf_cards", "alpha_texture": {"pattern": "leaf", "size": 2}})")),
+      {"size"});
 }
 
 }  // namespace
