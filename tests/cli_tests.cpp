@@ -327,6 +327,43 @@ TEST(CliTest, FroxelVerdictComparesEveryMethodAtFroxelsErrorAndTime) {
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
+// The alpha-textured tree: every method that can model or approximate its leaves has a row (the
+// binary ones alpha-tested, said in the row), and scripts/alpha-table reads them against the
+// exact ground truth.
+TEST(CliTest, AlphaTexturedTreeGivesEveryMethodARowAndTheAlphaTable) {
+  std::string dir = makeTempDir("alpha-tree");
+  CommandResult r = runVshadow({"shootout", "--scene", "foliage_alpha", "--size", "24x18", "--frames", "1", "--warmup",
+                                "0", "--rungs", "first", "--exact", "--exact-steps", "64", "--no-images", "--out",
+                                dir + "/out", "--cache", dir + "/cache"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  CsvTable runs = loadCsv(dir + "/out/runs.csv", runsColumns(), kRunsKeyColumns);
+  std::map<std::string, std::string> status, approximations;
+  for (const auto& row : runs.rows()) {
+    status[field(runs, row, "method")] = field(runs, row, "status");
+    approximations[field(runs, row, "method")] = field(runs, row, "approximations");
+  }
+  for (const char* method : {"raymarch", "minmax", "vsv", "slicemap", "froxel"})
+    EXPECT_EQ(status[method], "Success") << method;
+  for (const char* method : {"minmax", "vsv"})
+    EXPECT_NE(approximations[method].find("alpha-tested into the shadow map"), std::string::npos) << method;
+  EXPECT_NE(approximations["slicemap"].find("per-texel opacity quantised"), std::string::npos);
+  std::string cmd = std::string(VS_SOURCE_DIR) + "/scripts/alpha-table " + dir + "/out > " + dir + "/table.md 2> " +
+                    dir + "/table.err";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/table.err");
+  const std::string table = readFile(dir + "/table.md");
+  EXPECT_NE(table.find("| minmax | alpha_test=0.5 | alpha-tested (binary) |"), std::string::npos) << table;
+  EXPECT_NE(table.find("- minmax (alpha_test=0.5), occluders alpha-tested: L_s RMSE "), std::string::npos) << table;
+  // Without the exact ground truth the table has nothing to stand on: one line, exit 2.
+  CommandResult plain = runVshadow({"run", "--scene", "foliage_alpha", "--size", "16x12", "--frames", "1", "--warmup",
+                                    "0", "--method", "minmax", "--no-images", "--out", dir + "/plain", "--cache",
+                                    dir + "/cache"});
+  ASSERT_EQ(plain.exitCode, 0) << plain.err;
+  cmd = std::string(VS_SOURCE_DIR) + "/scripts/alpha-table " + dir + "/plain 2> " + dir + "/plain.err";
+  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2);
+  const std::string err = readFile(dir + "/plain.err");
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
 TEST(CliTest, ShootoutWritesTablesImagesAndAPlot) {
   std::string dir = makeTempDir("shootout");
   std::string out = dir + "/out";
