@@ -71,16 +71,7 @@ CommandResult runOnTerminal(const std::vector<std::string>& args) {
   int terminal = -1;
   pid_t pid = ::forkpty(&terminal, nullptr, nullptr, nullptr);
   if (pid < 0) throw std::runtime_error("forkpty failed");
-  if (pid == 0) {
-    std::vector<char*> argv;
-    std::string bin = vshadowPath();
-    argv.push_back(bin.data());
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(bin.c_str(), argv.data());
-    ::_exit(127);
-  }
+  if (pid == 0) execVshadow(args);
   CommandResult r;
   char buffer[4096];
   for (;;) {

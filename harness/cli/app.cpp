@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <regex>
 #include <set>
 #include <thread>
@@ -150,8 +151,9 @@ struct RunPlan {
   Scene scene;
   SceneLoad sceneLoad;  // what loading `scene` took (meta.json "scene_load")
   // The scene at the time of the frame whose images are compared (the last one): the reference's
-  // and the ground truth's scene. The same as `scene` when it does not move.
-  Scene stillScene;
+  // and the ground truth's scene. Only a moving scene holds a second copy.
+  std::optional<Scene> movedScene;
+  const Scene& stillScene() const { return movedScene ? *movedScene : scene; }
   uint32_t comparedFrame = 0;
   Effects effects;
   std::vector<Job> jobs;
@@ -267,7 +269,7 @@ class EqualQuality {
     once.warmup = 0;
     once.minTimeMs = 0;
     // The error of a baseline point: one still frame of the scene as the rows' compared frame shows it.
-    errorRunner_ = std::make_unique<Runner>(plan.stillScene, limits, once);
+    errorRunner_ = std::make_unique<Runner>(plan.stillScene(), limits, once);
     baseline_ = referenceMethodFor(plan.effects, registry).name;
     baselineMethod_ = createMethod(registry, baseline_);
     // The samplings it is matched with: the reference method's ladder series that it offers as
@@ -394,7 +396,7 @@ RunPlan planBeforeContext(const RunRequest& req, bool shootout, const MethodRegi
   plan.effects = deriveEffects(plan.scene);
   // A moving scene is compared at the time of the last frame, the one whose images are read back.
   plan.comparedFrame = uint32_t(req.warmup + req.frames - 1);
-  plan.stillScene = sceneAt(plan.scene, plan.scene.animation.timeOf(plan.comparedFrame));
+  if (plan.scene.animation.moves()) plan.movedScene = sceneAt(plan.scene, plan.scene.animation.timeOf(plan.comparedFrame));
   for (const auto& spec : req.methods) createMethod(registry, shootout ? spec : parseMethodSpec(spec).method);
   pickRungs(req.rungs, 0);  // the words are valid
   if (req.minTimeMs > 0.0 && req.warmup < 1) throw UsageError("--min-time needs --warmup of at least 1: the warm-up frame's time sizes the run");
@@ -666,7 +668,7 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
   Baselines base;
   if (plan.haveExact) {
     progress.item(item, "exact-visibility ground truth");
-    base.exact = obtainGroundTruth(plan.stillScene, groundTruthOptions(req, plan, options),
+    base.exact = obtainGroundTruth(plan.stillScene(), groundTruthOptions(req, plan, options),
                                    req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir,
                                    [&](int done, int total) { progress.frames(done, total); });
     progress.finished((base.exact.fromCache ? std::string("from cache")
@@ -691,7 +693,7 @@ Baselines prepareBaselines(const RunRequest& req, const RunPlan& plan, const gl:
     for (const auto& j : plan.jobs) sm = std::max(sm, j.params.getInt("sm"));
     base.referenceShadowMap = std::max(sm, 64);
     progress.item(item, "reference");
-    ref = obtainReference(plan.stillScene, limits, options, base.referenceShadowMap,
+    ref = obtainReference(plan.stillScene(), limits, options, base.referenceShadowMap,
                           req.cacheDir.empty() ? defaultCacheDir() : req.cacheDir, registry, req.referenceSpec);
     progress.finished(ref.method + " " + ref.params + " (" +
                       (ref.fromCache ? std::string("from cache") : "computed in " + num(ref.computeMs / 1000.0) + " s") +

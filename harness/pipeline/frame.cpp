@@ -111,7 +111,10 @@ int alphaTextureOf(const Scene& scene, const Mesh& mesh) {
 
 // Every uploaded mesh's vertices, interleaved as the vertex array reads them.
 std::vector<float> vertexRecords(const Scene& scene) {
+  size_t vertices = 0;
+  for (const Mesh& mesh : scene.meshes) vertices += mesh.opacity > 0.0f ? mesh.positions.size() : 0;
   std::vector<float> vertexData;
+  vertexData.reserve(vertices * kVertexFloats);
   for (const Mesh& mesh : scene.meshes) {
     if (mesh.opacity <= 0.0f) continue;  // cut out: neither seen nor casting shadows
     const int texture = alphaTextureOf(scene, mesh);
@@ -130,7 +133,10 @@ std::vector<float> vertexRecords(const Scene& scene) {
 
 SceneGpu::SceneGpu(const Scene& scene) {
   std::vector<float> vertexData = vertexRecords(scene);
-  std::vector<uint32_t> opaque;
+  std::vector<uint32_t> opaque;  // then the semi-transparent meshes' indices after them
+  size_t indexTotal = 0;
+  for (const Mesh& mesh : scene.meshes) indexTotal += mesh.opacity > 0.0f ? mesh.indices.size() : 0;
+  opaque.reserve(indexTotal);
   struct Pending {
     std::vector<uint32_t> indices;
     int texture;

@@ -68,6 +68,17 @@ Scene sceneFromJson(const std::string& json) { return parseSceneJson(json, ".", 
 
 std::string vshadowPath() { return VSHADOW_BIN; }
 
+void execVshadow(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  std::string bin = vshadowPath();
+  argv.push_back(bin.data());
+  std::vector<std::string> copy = args;
+  for (auto& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  ::execv(bin.c_str(), argv.data());
+  ::_exit(127);
+}
+
 CommandResult runVshadow(const std::vector<std::string>& args, const std::vector<std::string>& env) {
   std::string outPath = makeTempDir("cmd") + "/out", errPath = outPath + ".err";
   pid_t pid = ::fork();
@@ -79,14 +90,7 @@ CommandResult runVshadow(const std::vector<std::string>& args, const std::vector
     ::dup2(out, 1);
     ::dup2(err, 2);
     for (const auto& e : env) ::putenv(const_cast<char*>(e.c_str()));
-    std::vector<char*> argv;
-    std::string bin = vshadowPath();
-    argv.push_back(bin.data());
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(bin.c_str(), argv.data());
-    ::_exit(127);
+    execVshadow(args);
   }
   int status = 0;
   ::waitpid(pid, &status, 0);

@@ -37,6 +37,8 @@ struct CommandResult {
 // Runs the built vshadow with arguments (no shell); stdin is closed.
 CommandResult runVshadow(const std::vector<std::string>& args, const std::vector<std::string>& env = {});
 std::string vshadowPath();
+// In a forked child: becomes `vshadow ARGS` (exit 127 when it cannot).
+[[noreturn]] void execVshadow(const std::vector<std::string>& args);
 std::string makeTempDir(const std::string& tag);
 std::string readFile(const std::string& path);
 void writeFile(const std::string& path, const std::string& text);
