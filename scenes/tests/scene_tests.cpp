@@ -959,6 +959,16 @@ TEST(Gltf, BlendAndMaskMaterialsTakeTheirAlphaFromTheTexture) {
   // A texture that cannot be decoded is a one-line error naming the image.
   dir.write("blend.png", "not a png");
   expectErrorMentions(loadError(dir, sceneText(R"({"gltf": ")" + blend + R"("})")), {"image 0", "blend.png"});
+  // An OPAQUE material's base colour does not change visibility: never decoded, so a broken or
+  // missing image is no error.
+  std::string opaque = vs::testing::writeAlphaQuadGltf(dir.file(""), "opaque", "OPAQUE", 0.0, 2, 1, {0.25f, 1.0f}, 2.0, 1.0);
+  dir.write("opaque.png", "not a png");
+  Scene o = parse(sceneText(R"({"gltf": ")" + opaque + R"("})"));
+  ASSERT_EQ(o.meshes.size(), 1u);
+  EXPECT_TRUE(o.meshes[0].isOpaque());
+  EXPECT_TRUE(o.alphaTextures.empty());
+  fs::remove(dir.file("opaque.png"));
+  EXPECT_EQ(loadError(dir, sceneText(R"({"gltf": ")" + opaque + R"("})")), "");
 }
 
 // The same alpha texture in every form a downloaded asset uses: a file, a data: URI, a buffer view
