@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 namespace vs {
 
@@ -53,6 +54,7 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
     glm::vec3 tint;
     std::vector<double> sum, count;
     std::vector<int> meshes;
+    std::set<std::pair<int, float>> counted;  // (texture, opacity): meshes sharing both count it once
   };
   std::vector<Bins> textured;
   problem.clear();
@@ -76,13 +78,16 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
                             std::vector<double>(size_t(alpha.bins), 0.0), {}});
         it = textured.end() - 1;
       }
-      for (float a : scene.alphaTextures[size_t(mesh.alphaTexture)].alpha) {
-        float o = mesh.opacityAt(a);
-        int bin = alpha.binOf(o);
-        if (bin < 0) continue;
-        it->sum[size_t(bin)] += o;
-        it->count[size_t(bin)] += 1.0;
-      }
+      // A texture atlas shared by many primitives is read once per opacity (the bins' means are
+      // the same), not once per mesh.
+      if (it->counted.insert({mesh.alphaTexture, mesh.opacity}).second)
+        for (float a : scene.alphaTextures[size_t(mesh.alphaTexture)].alpha) {
+          float o = mesh.opacityAt(a);
+          int bin = alpha.binOf(o);
+          if (bin < 0) continue;
+          it->sum[size_t(bin)] += o;
+          it->count[size_t(bin)] += 1.0;
+        }
       it->meshes.push_back(int(i));
       continue;
     }
