@@ -6,6 +6,7 @@
 #include "harness/cli/app.hpp"
 #include "harness/cli/merge.hpp"
 #include "harness/cli/sweep.hpp"
+#include "harness/report/report.hpp"
 #include "harness/viewer/viewer.hpp"
 #include "methods/registry.hpp"
 
@@ -106,6 +107,11 @@ int main(int argc, char** argv) {
   mergeCmd->add_option("--out", merge.out, "folder for the merged tables")->required();
   mergeCmd->add_flag("--allow-mixed-renderers", merge.allowMixedRenderers,
                      "merge rows of one scene, size and seed that come from different renderers");
+  vs::ReportRequest report;
+  auto* reportCmd = app.add_subcommand("report", "one HTML page over a results folder: error against time, the rows, "
+                                                 "images, passes, provenance (README \"Reports\")");
+  reportCmd->add_option("DIR", report.dir, "a results folder, or a folder of them (one per scene)")->required();
+  reportCmd->add_option("-o,--out", report.out, "the page (default DIR/report.html)");
 
   // The interactive viewer (harness/viewer/viewer.hpp; README "Viewer").
   vs::ViewRequest view;
@@ -139,6 +145,7 @@ int main(int argc, char** argv) {
   if (sweepRefCmd->parsed()) return vs::sweepReferenceCommand(sweepFile, sweepOptions, vs::registeredMethods());
   if (viewCmd->parsed()) return vs::viewCommand(view, vs::registeredMethods());
   if (mergeCmd->parsed()) return vs::mergeCommand(merge, vs::registeredMethods());
+  if (reportCmd->parsed()) return vs::reportCommand(report);
   if (app.got_subcommand("run")) return vs::runCommand(run, false, vs::registeredMethods());
   return vs::runCommand(shootout, true, vs::registeredMethods());
 }
