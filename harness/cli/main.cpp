@@ -112,6 +112,10 @@ int main(int argc, char** argv) {
                                                  "images, passes, provenance (README \"Reports\")");
   reportCmd->add_option("DIR", report.dir, "a results folder, or a folder of them (one per scene)")->required();
   reportCmd->add_option("-o,--out", report.out, "the page (default DIR/report.html)");
+  reportCmd->add_option("--embed-images", report.embedImagesMb,
+                        "embed the images in the page while their total stays within this many MB (a single file to "
+                        "send; the rest are referenced by relative path)")
+      ->check(CLI::Range(0.0, 4096.0));
 
   // The interactive viewer (harness/viewer/viewer.hpp; README "Viewer").
   vs::ViewRequest view;

@@ -216,7 +216,71 @@ std::string htmlEscape(const std::string& s) {
   return out;
 }
 
+std::string percentDecode(const std::string& url) {
+  std::string out;
+  for (size_t i = 0; i < url.size(); ++i) {
+    if (url[i] == '%' && i + 2 < url.size() && std::isxdigit(uint8_t(url[i + 1])) && std::isxdigit(uint8_t(url[i + 2]))) {
+      out += char(std::stoi(url.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += url[i];
+    }
+  }
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t n = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) n |= uint8_t(bytes[i + 2]);
+    out += table[(n >> 18) & 63];
+    out += table[(n >> 12) & 63];
+    out += i + 1 < bytes.size() ? table[(n >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? table[n & 63] : '=';
+  }
+  return out;
+}
+
 }  // namespace
+
+size_t embedImages(json& data, const std::string& pageDir, size_t budgetBytes) {
+  std::map<std::string, std::string> embedded;  // path -> data: URI (an image shared by rows once)
+  std::set<std::string> tooLarge;
+  size_t used = 0;
+  for (auto& scene : data["scenes"])
+    for (auto& images : scene["images"]) {
+      if (!images.is_array()) continue;
+      for (auto& url : images) {
+        if (!url.is_string()) continue;
+        const std::string path = url.get<std::string>();
+        auto it = embedded.find(path);
+        if (it == embedded.end()) {
+          if (tooLarge.count(path)) continue;
+          std::string bytes, error;
+          std::error_code ec;
+          size_t size = fs::file_size(fs::path(pageDir) / percentDecode(path), ec);
+          if (ec || used + size > budgetBytes || !readFile((fs::path(pageDir) / percentDecode(path)).string(), bytes, error)) {
+            tooLarge.insert(path);
+            continue;
+          }
+          used += bytes.size();
+          it = embedded.emplace(path, "data:image/png;base64," + base64(bytes)).first;
+        }
+        url = it->second;
+      }
+    }
+  if (!tooLarge.empty()) {
+    char budget[32];
+    std::snprintf(budget, sizeof budget, "%.6g", double(budgetBytes) / 1048576.0);
+    data["warnings"].push_back(std::to_string(tooLarge.size()) + " image(s) referenced, not embedded: over the " +
+                               budget + " MB of --embed-images");
+  }
+  return embedded.size();
+}
 
 std::string defaultReportPath(const std::string& dir) { return (fs::path(dir) / "report.html").string(); }
 
@@ -409,7 +473,9 @@ int reportCommand(const ReportRequest& request) {
     fs::path parent = fs::absolute(out).parent_path();
     if (!fs::is_directory(parent, ec) && fs::exists(request.dir, ec))
       throw UsageError("report: cannot write " + out + ": " + parent.string() + " is not a folder");
-    std::string page = renderReportPage(collectReportData(request.dir, parent.string()));
+    json data = collectReportData(request.dir, parent.string());
+    if (request.embedImagesMb > 0) embedImages(data, parent.string(), size_t(request.embedImagesMb * 1048576.0));
+    std::string page = renderReportPage(data);
     try {
       writeFileAtomic(out, page);
     } catch (const std::runtime_error& e) {

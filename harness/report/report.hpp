@@ -10,6 +10,9 @@ namespace vs {
 struct ReportRequest {
   std::string dir;  // a result folder, or a folder holding result folders (one per scene)
   std::string out;  // the page; empty: DIR/report.html
+  // Images are embedded in the page (data: URIs) while their total stays within this many
+  // megabytes, the rest referenced by relative path; 0: every image referenced.
+  double embedImagesMb = 0;
 };
 
 // Where the page goes by default.
@@ -20,6 +23,10 @@ std::string defaultReportPath(const std::string& dir);
 // its text from the CSV. Image, video and folder paths are relative to `pageDir`, the folder the
 // page is written to. Missing or malformed input is a UsageError (one line).
 nlohmann::json collectReportData(const std::string& dir, const std::string& pageDir);
+
+// Replaces image paths in `data` (relative to `pageDir`) by data: URIs, in the page's order,
+// while their total size stays within `budgetBytes`; returns how many were embedded.
+size_t embedImages(nlohmann::json& data, const std::string& pageDir, size_t budgetBytes);
 
 // The HTML page: the template with the page's CSS and JavaScript and `data` embedded.
 std::string renderReportPage(const nlohmann::json& data);

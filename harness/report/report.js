@@ -167,12 +167,15 @@
   Axis.prototype.ticks = function () {
     var out = [], k;
     if (this.log) {
-      for (k = Math.floor(this.lo); k <= Math.ceil(this.hi); ++k) {
-        [1, 2, 5].forEach(function (m) { out.push(m * Math.pow(10, k)); });
+      // Decades, else 1-2-5 steps, else every integer multiple: whichever first gives three ticks.
+      var sets = [[1], [1, 2, 5], [1, 2, 3, 4, 5, 6, 7, 8, 9]], inside = [];
+      for (var n = 0; n < sets.length && inside.length < 3; ++n) {
+        out = [];
+        for (k = Math.floor(this.lo); k <= Math.ceil(this.hi); ++k)
+          sets[n].forEach(function (m) { out.push(m * Math.pow(10, k)); });
+        inside = out.filter(function (v) { return this.inside(v); }, this);
       }
-      var inside = out.filter(function (v) { return this.inside(v); }, this);
-      var decades = inside.filter(function (v) { return Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9; });
-      return decades.length >= 2 ? decades : inside;
+      return inside;
     }
     var step = Math.pow(10, Math.floor(Math.log10((this.hi - this.lo) / 4)));
     [1, 2, 5, 10].some(function (m) { if ((this.hi - this.lo) / (step * m) <= 6) { step *= m; return true; } }, this);

@@ -99,7 +99,9 @@ TEST(Report, PassesAndImagesBelongToTheirRows) {
     const json& passes = scene["passes"][r];
     EXPECT_EQ(passes.size(), success ? 6u : 0u);
     for (const auto& p : passes) {  // [pass, median, min, max]: the own pass is the row's scattering time
-      if (names[p[0].get<size_t>()] == "Own Pass") EXPECT_EQ(p[1], scene["rows"][r][scatter]);
+      if (names[p[0].get<size_t>()] == "Own Pass") {
+        EXPECT_EQ(p[1], scene["rows"][r][scatter]);
+      }
     }
     const json& images = scene["images"][r];
     ASSERT_EQ(images.is_null(), !success);
@@ -178,6 +180,32 @@ TEST(Report, CommandWritesOnePageWithNothingFetched) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   json data = embeddedData(readFile(dir + "/elsewhere/page.html"));
   EXPECT_EQ(data["scenes"][0]["images"][0][0], "../images/spheres/reference.png");
+}
+
+// --embed-images: a single file to send, within a budget; images over it stay referenced.
+TEST(Report, ImagesEmbeddedWithinTheBudget) {
+  std::string dir = makeTempDir("report-embed");
+  writeShootoutFixture(dir, "spheres", true, false);
+  json data = collectReportData(dir, dir);
+  size_t total = 0, files = 0;
+  for (const auto& e : fs::directory_iterator(dir + "/images/spheres")) total += fs::file_size(e.path()), ++files;
+  json all = data;
+  EXPECT_EQ(embedImages(all, dir, total), files);  // the reference once, though every row shows it
+  for (const auto& images : all["scenes"][0]["images"])
+    for (const auto& url : images.is_array() ? images : json::array())
+      EXPECT_EQ(url.get<std::string>().rfind("data:image/png;base64,iVBORw0KGgo", 0), 0u);
+  EXPECT_TRUE(all["warnings"].empty());
+  json some = data;
+  size_t embedded = embedImages(some, dir, total / 2);
+  EXPECT_GT(embedded, 0u);
+  EXPECT_LT(embedded, files);
+  ASSERT_EQ(some["warnings"].size(), 1u);
+  EXPECT_NE(some["warnings"][0].get<std::string>().find("referenced, not embedded"), std::string::npos);
+  CommandResult r = runVshadow({"report", dir, "--embed-images", "1"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::string html = readFile(dir + "/report.html");
+  EXPECT_EQ(html.find("images/spheres/"), std::string::npos);
+  EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
 }
 
 struct BadInput {
