@@ -233,6 +233,17 @@ void expectParametersReadAndEffective(const std::string& name) {
                                  ".sameImage() if it changes only speed or memory";
     }
   }
+  // Every std140 mirror of the method's folder was compared with its shader block when the programs
+  // above linked (gl::checkProgramInterface; a mismatch fails the run). The reference, which runs
+  // every coverage case, also covers the harness's.
+  std::set<std::string> checked = gl::checkedStd140Blocks();
+  for (const gl::Std140Mirror& m : gl::std140Mirrors()) {
+    bool ours = m.source.rfind("methods/" + name + "/", 0) == 0 || (name == "raymarch" && m.source.rfind("harness/", 0) == 0);
+    if (ours) {
+      EXPECT_TRUE(checked.count(m.block)) << m.cppType << " (" << m.source << ") mirrors " << m.block
+                                          << ", which no program of " << name << " on the coverage cases linked";
+    }
+  }
 }
 
 }  // namespace vs::testing

@@ -1,6 +1,7 @@
 #include "harness/gl/gl.hpp"
 #include "scenes/content_hash.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <fstream>
@@ -139,7 +140,7 @@ static void expand(const std::string& path, Preprocessed& out, std::set<std::str
     std::smatch m;
     if (top && lineNo == 1 && line.rfind("#version", 0) == 0) {
       emit(line, index, lineNo);
-      std::istringstream defs(defines);
+      std::istringstream defs(bind::glslDefines() + defines);
       std::string def;
       while (std::getline(defs, def)) emit(def, -1, 0);
     } else if (std::regex_match(line, m, includeRe)) {
@@ -276,6 +277,9 @@ Program buildProgram(const std::vector<ShaderStage>& stages, const std::string& 
     std::string first = std::string(log.c_str()).substr(0, std::string(log.c_str()).find('\n'));
     throw GlError("shader link failed (" + names + "): " + first);
   }
+  bool methodProgram = std::any_of(stages.begin(), stages.end(),
+                                   [](const ShaderStage& s) { return s.path.rfind("methods/", 0) == 0; });
+  checkProgramInterface(program, names, methodProgram);
   rememberBinary(program, key);
   return owner;
 }
@@ -291,6 +295,7 @@ std::string shaderSourcesHash() {
     hasher.addBlock(entry.first);
     hasher.addBlock(shaderText(entry.first));
   }
+  hasher.addBlock(bind::glslDefines());
   return hasher.hex();
 }
 

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "harness/gl/bindings.hpp"
+
 namespace vs::gl {
 
 struct GlError : std::runtime_error {

@@ -14,6 +14,9 @@ namespace vs {
 
 // ---- cameras
 
+VS_STD140_MIRROR(FrameUniforms, "FrameUniformBlock", VS_STD140_FIELD(FrameUniforms, viewProj), VS_STD140_FIELD(FrameUniforms, invViewProj), VS_STD140_FIELD(FrameUniforms, view), VS_STD140_FIELD(FrameUniforms, proj), VS_STD140_FIELD(FrameUniforms, lightViewProj), VS_STD140_FIELD(FrameUniforms, lightView), VS_STD140_FIELD(FrameUniforms, eye), VS_STD140_FIELD(FrameUniforms, cameraForward), VS_STD140_FIELD(FrameUniforms, lightPos), VS_STD140_FIELD(FrameUniforms, lightDir), VS_STD140_FIELD(FrameUniforms, lightColor), VS_STD140_FIELD(FrameUniforms, shadowParams), VS_STD140_FIELD(FrameUniforms, medium), VS_STD140_FIELD(FrameUniforms, cameraClip), VS_STD140_FIELD(FrameUniforms, viewport), VS_STD140_FIELD(FrameUniforms, lightEmission));
+VS_STD140_MIRROR(VolumeUniforms, "VolumeBlock", VS_STD140_FIELD(VolumeUniforms, count), VS_STD140_FIELD(VolumeUniforms, boxLo), VS_STD140_FIELD(VolumeUniforms, boxHi), VS_STD140_FIELD(VolumeUniforms, coeff), VS_STD140_FIELD(VolumeUniforms, scattering), VS_STD140_FIELD(VolumeUniforms, extinction));
+
 static glm::vec3 safeUp(glm::vec3 forward, glm::vec3 up) {
   if (glm::length(glm::cross(forward, up)) > 1e-6f * glm::length(up)) return up;
   return std::fabs(forward.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
@@ -225,6 +228,7 @@ struct TransmittanceUniforms {
   glm::mat4 faceViewProj[6];
   glm::vec4 params;  // x size, y faces, z light type, w longest list
 };
+VS_STD140_MIRROR(TransmittanceUniforms, "TransmittanceBlock", VS_STD140_FIELD(TransmittanceUniforms, faceViewProj), VS_STD140_FIELD(TransmittanceUniforms, params));
 }  // namespace
 
 TransmittanceMap::TransmittanceMap(const SceneGpu& geometry) : geometry_(geometry) {
@@ -292,7 +296,7 @@ void TransmittanceMap::render(const ShadowMap& shadow, const glm::vec3& lightPos
     glBindImageTexture(0, heads_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
     glBindImageTexture(1, lengths_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bind::kTransmittanceNodes, nodeBuffer_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bind::kTransmittanceNodes + 1, counter_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bind::kTransmittanceCounter, counter_.id());
     glUniform3fv(1, 1, &lightPos.x);
     glUniform3fv(2, 1, &lightDir.x);
     glUniform1i(3, lightType);

@@ -14,29 +14,7 @@
 
 namespace vs {
 
-// Texture units and binding points every shader agrees on (see harness/shaders/common.glsl).
-namespace bind {
-constexpr GLuint kFrameUniforms = 0;      // UBO
-constexpr GLuint kShadowMap2D = 0;        // sampler2DShadow (spot, directional)
-constexpr GLuint kShadowMapCube = 1;      // samplerCubeShadow (point)
-constexpr GLuint kLightTexture = 2;       // sampler2D, linear RGB
-constexpr GLuint kGPosition = 3;          // xyz world position of the first hit (far plane if none), w distance
-constexpr GLuint kGNormal = 4;            // xyz normal facing the eye, w = 1 on geometry, 0 on sky
-constexpr GLuint kGAlbedo = 5;
-constexpr GLuint kDirect = 6;             // L_surf
-constexpr GLuint kInscatter = 7;          // L_s
-constexpr GLuint kShadowDepth2D = 8;      // the 2D shadow map as plain depth (sampler2D)
-constexpr GLuint kShadowDepthCube = 9;    // the cube shadow map as plain depth (samplerCube)
-constexpr GLuint kFirstMethodUnit = 10;   // units 10-15 belong to the method
-constexpr GLuint kAlphaTexture = 21;      // sampler2D: the alpha texture of the mesh being drawn
-constexpr GLuint kVolumeDensity0 = 16;    // sampler3D per volume: units 16 .. 16 + kMaxVolumes - 1
-constexpr GLuint kVolumeUniforms = 1;     // UBO
-constexpr GLuint kVolumeTransmittance = 20;  // camera rays' RGB transmittance through volume data
-constexpr GLuint kTransmittanceHeads = 7;  // image unit (uimage2DArray): first node per light texel and face
-constexpr GLuint kTransmittanceUniforms = 2;  // UBO
-constexpr GLuint kTransmittanceNodes = 7;   // SSBO
-constexpr GLuint kWorkCounters = 6;        // image unit (uimage2DArray, r32ui): harness/gl/work_counters.hpp
-}  // namespace bind
+// Texture units and binding points: harness/gl/bindings.hpp (namespace bind).
 
 // Volumes a scene may hold (each a 3D texture on its own unit).
 constexpr int kMaxVolumes = 4;

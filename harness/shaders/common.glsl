@@ -1,6 +1,6 @@
 // Shared by every shader: frame uniforms, the light, the medium, shadow-map visibility.
 // Mirrors vs::FrameUniforms and the bind:: units in harness/pipeline/frame.hpp.
-layout(std140, binding = 0) uniform FrameUniformBlock {
+layout(std140, binding = VS_BLOCK_FRAME) uniform FrameUniformBlock {
   mat4 viewProj;
   mat4 invViewProj;
   mat4 view;
@@ -19,14 +19,14 @@ layout(std140, binding = 0) uniform FrameUniformBlock {
   vec4 lightEmission;  // x: 1 cosine lobe about lightDir (area lights, virtual point lights); y: two-sided
 } u;
 
-layout(binding = 0) uniform sampler2DShadow shadowMap2D;
-layout(binding = 1) uniform samplerCubeShadow shadowMapCube;
-layout(binding = 2) uniform sampler2D lightTexture;
-layout(binding = 3) uniform sampler2D gPosition;
-layout(binding = 4) uniform sampler2D gNormal;
-layout(binding = 5) uniform sampler2D gAlbedo;
+layout(binding = VS_UNIT_SHADOW_MAP_2D) uniform sampler2DShadow shadowMap2D;
+layout(binding = VS_UNIT_SHADOW_MAP_CUBE) uniform samplerCubeShadow shadowMapCube;
+layout(binding = VS_UNIT_LIGHT_TEXTURE) uniform sampler2D lightTexture;
+layout(binding = VS_UNIT_G_POSITION) uniform sampler2D gPosition;
+layout(binding = VS_UNIT_G_NORMAL) uniform sampler2D gNormal;
+layout(binding = VS_UNIT_G_ALBEDO) uniform sampler2D gAlbedo;
 
-layout(binding = 21) uniform sampler2D alphaTexture;  // of the mesh being drawn (frame.hpp, SceneGpu)
+layout(binding = VS_UNIT_ALPHA_TEXTURE) uniform sampler2D alphaTexture;  // of the mesh being drawn (frame.hpp, SceneGpu)
 
 const float PI = 3.14159265358979323846;
 
@@ -159,16 +159,16 @@ float shadowVisibility(vec3 x) {
 #define VS_TRANSLUCENT 0
 #endif
 #if VS_TRANSLUCENT
-layout(std140, binding = 2) uniform TransmittanceBlock {
+layout(std140, binding = VS_BLOCK_TRANSMITTANCE) uniform TransmittanceBlock {
   mat4 faceViewProj[6];
   vec4 params;  // size, faces, light type, longest list
 } tm;
-layout(binding = 7, r32ui) readonly uniform uimage2DArray transmittanceHeads;
+layout(binding = VS_IMAGE_TRANSMITTANCE_HEADS, r32ui) readonly uniform uimage2DArray transmittanceHeads;
 struct TransmittanceNode {
   vec4 data;   // rgb transmittance of the crossing, w distance from the light
   uvec4 link;  // x next node
 };
-layout(std430, binding = 7) readonly buffer TransmittanceNodes { TransmittanceNode transmittanceNodes[]; };
+layout(std430, binding = VS_STORAGE_TRANSMITTANCE_NODES) readonly buffer TransmittanceNodes { TransmittanceNode transmittanceNodes[]; };
 
 // Transmittance of every semi-transparent crossing between the light and x (1 without any), read
 // from x's light texel: the product over the crossings nearer the light than x by more than `bias`.
@@ -274,7 +274,7 @@ void cameraRay(ivec2 pixel, out vec3 dir, out float dist) {
 #define VS_VOLUMES 0
 #endif
 #if VS_VOLUMES > 0
-layout(std140, binding = 1) uniform VolumeBlock {
+layout(std140, binding = VS_BLOCK_VOLUMES) uniform VolumeBlock {
   ivec4 count;
   vec4 boxLo[4];
   vec4 boxHi[4];
@@ -282,7 +282,7 @@ layout(std140, binding = 1) uniform VolumeBlock {
   vec4 scattering[4];  // rgb sigma_s per unit density (times density_scale)
   vec4 extinction[4];  // rgb sigma_t per unit density (times density_scale)
 } vol;
-layout(binding = 16) uniform sampler3D volumeDensity[4];
+layout(binding = VS_UNIT_VOLUME_DENSITY0) uniform sampler3D volumeDensity[4];
 
 // Density of volume i at x: trilinear between voxel centres, 0 outside its box.
 float volumeDensityAt(int i, vec3 x) {

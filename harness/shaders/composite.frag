@@ -2,10 +2,10 @@
 // L = L_surf * exp(-sigma_t d) * T_volumes + L_s, with T_volumes the camera ray's rgb transmittance
 // through volume data (written by the method to draw buffer 1 of the in-scatter target).
 #include "common.glsl"
-layout(binding = 6) uniform sampler2D directRadiance;
-layout(binding = 7) uniform sampler2D inscatter;
+layout(binding = VS_UNIT_DIRECT) uniform sampler2D directRadiance;
+layout(binding = VS_UNIT_INSCATTER) uniform sampler2D inscatter;
 #if VS_VOLUMES > 0
-layout(binding = 20) uniform sampler2D volumeTransmittance;
+layout(binding = VS_UNIT_VOLUME_TRANSMITTANCE) uniform sampler2D volumeTransmittance;
 #endif
 layout(location = 0) out vec4 outRadiance;
 void main() {

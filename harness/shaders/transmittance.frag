@@ -17,8 +17,8 @@ struct Node {
   vec4 data;   // rgb transmittance of the crossing, w distance from the light
   uvec4 link;  // x next node (0xFFFFFFFF ends the list)
 };
-layout(std430, binding = 7) writeonly buffer Nodes { Node nodes[]; };
-layout(std430, binding = 8) buffer Counter {
+layout(std430, binding = VS_STORAGE_TRANSMITTANCE_NODES) writeonly buffer Nodes { Node nodes[]; };
+layout(std430, binding = VS_STORAGE_TRANSMITTANCE_COUNTER) buffer TransmittanceCounter {
   uint appended;
   uint longest;  // the longest list: the lookups' trip count
 };

@@ -25,6 +25,7 @@ struct DsmUniforms {
   glm::vec4 knotTaus[4];  // -ln(1 - threshold)
   glm::vec4 channelRatio;  // rgb: dsm::channelRatios (one channel)
 };
+VS_STD140_MIRROR(DsmUniforms, "DsmBlock", VS_STD140_FIELD(DsmUniforms, faceViewProj), VS_STD140_FIELD(DsmUniforms, faceInvViewProj), VS_STD140_FIELD(DsmUniforms, params), VS_STD140_FIELD(DsmUniforms, thresholds), VS_STD140_FIELD(DsmUniforms, knotTaus), VS_STD140_FIELD(DsmUniforms, channelRatio));
 
 namespace dsm {
 

@@ -23,6 +23,7 @@ struct FroxelUniforms {
   glm::mat4 previousViewProj;
   glm::vec4 previousEye;  // w: weight of the history (0: none)
 };
+VS_STD140_MIRROR(FroxelUniforms, "FroxelBlock", VS_STD140_FIELD(FroxelUniforms, grid), VS_STD140_FIELD(FroxelUniforms, range), VS_STD140_FIELD(FroxelUniforms, previousViewProj), VS_STD140_FIELD(FroxelUniforms, previousEye));
 
 std::string FroxelMethod::description() const {
   return "froxel: frustum-voxel volumetric fog (Wronski 2014, Hillaire 2015), in-scattering on a camera grid "

@@ -24,6 +24,8 @@ struct VplGpu {
   glm::vec4 position, axis, e1, e2;
 };
 
+VS_STD140_MIRROR(ivsv::Uniforms, "IvsvBlock", VS_STD140_FIELD(ivsv::Uniforms, dims), VS_STD140_FIELD(ivsv::Uniforms, counts), VS_STD140_FIELD(ivsv::Uniforms, tangent), VS_STD140_FIELD(ivsv::Uniforms, bitangent), VS_STD140_FIELD(ivsv::Uniforms, normal), VS_STD140_FIELD(ivsv::Uniforms, weight));
+
 namespace ivsv {
 
 std::vector<glm::vec4> samplePointCloud(const Scene& scene, size_t count, uint32_t seed, float alphaTest) {

@@ -21,7 +21,7 @@ constexpr int kRectifyBlock = 16;  // kBlock in shaders/rectify.comp: leaves rec
 // Texture units after bind::kFirstMethodUnit (see the shaders).
 constexpr GLuint kUnitTree = 10, kUnitBasisBeta = 11, kUnitGammaPrefix = 12, kUnitTexturedPrefix = 13,
                  kUnitBasisGamma = 14;
-constexpr GLuint kEpipolarUboBinding = 1;
+constexpr GLuint kEpipolarUboBinding = 3;  // EpipolarBlock in shaders/epipolar.glsl
 
 // std140 mirror of EpipolarBlock in shaders/epipolar.glsl.
 struct EpipolarUniforms {
@@ -29,6 +29,7 @@ struct EpipolarUniforms {
   glm::vec4 axis, basis0, basis1, gammaInfo, betaInfo, epipoleInfo;
   glm::ivec4 counts, flags;
 };
+VS_STD140_MIRROR(EpipolarUniforms, "EpipolarBlock", VS_STD140_FIELD(EpipolarUniforms, invLightViewProj), VS_STD140_FIELD(EpipolarUniforms, axis), VS_STD140_FIELD(EpipolarUniforms, basis0), VS_STD140_FIELD(EpipolarUniforms, basis1), VS_STD140_FIELD(EpipolarUniforms, gammaInfo), VS_STD140_FIELD(EpipolarUniforms, betaInfo), VS_STD140_FIELD(EpipolarUniforms, epipoleInfo), VS_STD140_FIELD(EpipolarUniforms, counts), VS_STD140_FIELD(EpipolarUniforms, flags));
 
 int nextPowerOfTwo(int v) {
   int p = 1;

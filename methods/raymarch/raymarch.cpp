@@ -19,6 +19,7 @@ struct AreaLightUniforms {
   glm::vec4 weight;                      // rgb radiance x area / samples; w count
   glm::vec4 range;                       // x near, y far of the cube maps
 };
+VS_STD140_MIRROR(AreaLightUniforms, "AreaLightBlock", VS_STD140_FIELD(AreaLightUniforms, position), VS_STD140_FIELD(AreaLightUniforms, weight), VS_STD140_FIELD(AreaLightUniforms, range));
 
 std::string RaymarchMethod::description() const {
   return "brute-force per-pixel ray marching of L_s with shadow-map visibility (the reference)";

@@ -31,6 +31,7 @@ struct SlicemapUniforms {
   glm::vec4 classBin[slicemap::kMaxClasses];   // x alpha bin (-1: constant transmittance), y bins, z minimum
   glm::vec4 classTint[slicemap::kMaxClasses];  // rgb: the alpha bin's transmittance colour
 };
+VS_STD140_MIRROR(SlicemapUniforms, "SlicemapBlock", VS_STD140_FIELD(SlicemapUniforms, faceViewProj), VS_STD140_FIELD(SlicemapUniforms, params), VS_STD140_FIELD(SlicemapUniforms, classRange), VS_STD140_FIELD(SlicemapUniforms, classTransmittance), VS_STD140_FIELD(SlicemapUniforms, classLog2Transmittance), VS_STD140_FIELD(SlicemapUniforms, classBin), VS_STD140_FIELD(SlicemapUniforms, classTint));
 
 namespace slicemap {
 
@@ -75,7 +76,7 @@ std::vector<ColorClass> colorClasses(const Scene& scene, bool opaqueInSlices, st
       });
       if (it == textured.end()) {
         textured.push_back({mesh.transmittanceColor, std::vector<double>(size_t(alpha.bins), 0.0),
-                            std::vector<double>(size_t(alpha.bins), 0.0), {}});
+                            std::vector<double>(size_t(alpha.bins), 0.0), {}, {}});
         it = textured.end() - 1;
       }
       // A texture atlas shared by many primitives is read once per opacity (the bins' means are

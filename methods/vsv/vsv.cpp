@@ -18,6 +18,18 @@ static constexpr const char* kScan = "Scan VSV";
 static constexpr const char* kInscatter = "Compute L_s";
 static constexpr const char* kRanges = "Epipolar Ranges";
 static constexpr const char* kSurface = "Surface Shadows";
+// std140 mirror of VsvRangesBlock in shaders/epipolar.glsl (filled from the Ranges pass's buffer).
+struct RangesUniforms {
+  uint32_t alphaMaxBits, phiMaxBits;
+};
+VS_STD140_MIRROR(RangesUniforms, "VsvRangesBlock", VS_STD140_FIELD(RangesUniforms, alphaMaxBits),
+                 VS_STD140_FIELD(RangesUniforms, phiMaxBits));
+VS_STD140_MIRROR(epipolar::GridUniforms, "VsvBlock", VS_STD140_FIELD_AS(epipolar::GridUniforms, eye, "eyeAndDistance"),
+                 VS_STD140_FIELD_AS(epipolar::GridUniforms, light, "gridLight"),
+                 VS_STD140_FIELD(epipolar::GridUniforms, axis), VS_STD140_FIELD(epipolar::GridUniforms, e1),
+                 VS_STD140_FIELD(epipolar::GridUniforms, e2), VS_STD140_FIELD(epipolar::GridUniforms, grid),
+                 VS_STD140_FIELD_AS(epipolar::GridUniforms, ranges, "fixedRanges"));
+static constexpr GLuint kGridUboBinding = 3;    // VsvBlock in shaders/epipolar.glsl
 static constexpr GLuint kRangesUboBinding = 5;  // VsvRangesBlock in shaders/epipolar.glsl
 static constexpr int kRangesTile = 4;  // pixels per side of one Epipolar Ranges invocation
 
@@ -161,7 +173,7 @@ void VsvMethod::updateGrid(const Frame& frame) {
   }
   epipolar::GridUniforms g = epipolar::makeGridUniforms(basis, size_, dynamicRanges_);
   glNamedBufferSubData(gridUbo_.id(), 0, sizeof(g), &g);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 1, gridUbo_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, kGridUboBinding, gridUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, rangesSsbo_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, kRangesUboBinding, rangesUbo_.id());
 }

@@ -1,6 +1,6 @@
 // Epipolar frame of the min-max method (mirrors vs::minmax::EpipolarUniforms in minmax.cpp and the
 // coordinates documented in epipolar.hpp). Include after common.glsl.
-layout(std140, binding = 1) uniform EpipolarBlock {
+layout(std140, binding = 3) uniform EpipolarBlock {
   mat4 invLightViewProj;
   vec4 axis;         // xyz: eye -> light (directional: against the light's travel); w: D (1 directional)
   vec4 basis0;       // xyz: n0; w: alpha of the first slice's lower edge

@@ -13,9 +13,9 @@
 layout(local_size_x = 64) in;
 layout(rgba32f, binding = 3) uniform writeonly image2D tree;
 #if VS_LIGHT_TYPE == 0
-layout(binding = 9) uniform samplerCube shadowDepthCube;
+layout(binding = VS_UNIT_SHADOW_DEPTH_CUBE) uniform samplerCube shadowDepthCube;
 #else
-layout(binding = 8) uniform sampler2D shadowDepth2D;
+layout(binding = VS_UNIT_SHADOW_DEPTH_2D) uniform sampler2D shadowDepth2D;
 #endif
 const int kBlock = 16;  // kRectifyBlock in minmax.cpp
 // VS_LIGHT_TYPE (harness/frame.cpp): 0 point (cube map), 1 spot, 2 directional (LIGHT_* in common.glsl).

@@ -3,7 +3,7 @@
 #include "methods/epipolar/shaders/epipolar_frame.glsl"
 // Directional light: the axis points towards the light at infinity, light rays are the lines
 // parallel to it, and the third coordinate ("φ") is the distance from the axis instead of an angle.
-layout(std140, binding = 1) uniform VsvBlock {
+layout(std140, binding = 3) uniform VsvBlock {
   vec4 eyeAndDistance;  // xyz eye; w = distance to the grid light (> 0)
   vec4 gridLight;       // xyz light on the axis at that distance
   vec4 axis;            // unit, eye towards light

@@ -1,8 +1,8 @@
 // The light rays of the VSV grid seen in the shared shadow map (§4.1.3), for both "Voxelize: From
 // SM" variants: the ray of a (θ row, φ bin) cell and the α column of its first occluder.
 // Include after common.glsl and epipolar.glsl.
-layout(binding = 8) uniform sampler2D shadowDepth2D;
-layout(binding = 9) uniform samplerCube shadowDepthCube;
+layout(binding = VS_UNIT_SHADOW_DEPTH_2D) uniform sampler2D shadowDepth2D;
+layout(binding = VS_UNIT_SHADOW_DEPTH_CUBE) uniform samplerCube shadowDepthCube;
 
 // Distance along the light's perspective depth axis stored as window depth.
 float linearDepth(float windowDepth) {

@@ -82,7 +82,7 @@ ProbeResult probe(const epipolar::EpipolarBasis& basis, const epipolar::GridSize
   gl::Buffer pointBuf = gl::createBuffer(in.size() * sizeof(glm::vec4), in.data());
   gl::Buffer coordBuf = gl::createBuffer(in.size() * sizeof(glm::vec4));
   gl::Buffer cellBuf = gl::createBuffer(in.size() * sizeof(glm::ivec4));
-  glBindBufferBase(GL_UNIFORM_BUFFER, 1, ubo.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, 3, ubo.id());  // VsvBlock
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ranges.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, pointBuf.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, coordBuf.id());
