@@ -10,10 +10,12 @@
 #ifndef MARCH_EQUIANGULAR
 #error "define MARCH_EQUIANGULAR before including march.glsl"
 #endif
+#include "equiangular.glsl"
 #define kMarchAngular (MARCH_EQUIANGULAR != 0 && lightType() != LIGHT_DIRECTIONAL)
 
 struct March {
-  float dist, delta, D, thetaA, thetaB, pixelOffset;
+  float dist, pixelOffset;
+  EquiangularSpan span;  // kMarchAngular only
   int n;
   bool jitter;
 };
@@ -24,29 +26,18 @@ March beginMarch(ivec2 pixel, vec3 eye, vec3 dir, float dist, int steps, bool ji
   m.n = max(steps, 1);
   m.jitter = jitter;
   m.pixelOffset = jitter ? random01(uvec4(uint(pixel.x), uint(pixel.y), uint(u.viewport.w), 0u)) : 0.5;
-  m.delta = 0.0;
-  m.D = 1.0;
-  m.thetaA = 0.0;
-  m.thetaB = 0.0;
-  if (kMarchAngular) {
-    vec3 toLight = u.lightPos.xyz - eye;
-    m.delta = dot(toLight, dir);                                     // ray parameter closest to the light
-    m.D = max(length(toLight - m.delta * dir), 1e-6 * max(dist, 1.0));  // light's distance from the ray
-    m.thetaA = atan(-m.delta, m.D);
-    m.thetaB = atan(dist - m.delta, m.D);
-  }
+  m.span = EquiangularSpan(0.0, 1.0, 0.0, 0.0);
+  if (kMarchAngular) m.span = equiangularSpan(u.lightPos.xyz, eye, dir, dist);
   return m;
 }
 
 // Distance s along the ray of sample i and its quadrature weight.
 void marchSample(March m, int i, out float s, out float weight) {
   const float goldenRatio = 0.61803398875;
-  float ui = (float(i) + (m.jitter ? fract(m.pixelOffset + float(i) * goldenRatio) : 0.5)) / float(m.n);
+  float ui = stratumPosition(i, m.n, m.pixelOffset, m.jitter, goldenRatio);
   if (kMarchAngular) {
-    float theta = mix(m.thetaA, m.thetaB, ui);
-    s = clamp(m.delta + m.D * tan(theta), 0.0, m.dist);
-    float r2 = m.D * m.D + (s - m.delta) * (s - m.delta);
-    weight = (m.thetaB - m.thetaA) * r2 / (m.D * float(m.n));
+    s = equiangularDistance(m.span, ui, m.dist);
+    weight = equiangularWeight(m.span, s, m.n);
   } else {
     s = ui * m.dist;
     weight = m.dist / float(m.n);
@@ -61,8 +52,7 @@ vec3 marchInscatter(March m, vec3 x, vec3 dir, float s, float weight) {
     vec3 d = x - u.lightPos.xyz;
     float r = length(d);
     vec3 l = r > 1e-20 ? d / r : u.lightDir.xyz;
-    float angularWeight = (m.thetaB - m.thetaA) / (m.D * float(m.n));
-    return angularWeight * sigmaS() * exp(-sigmaT() * (s + r)) * phase(dot(l, -dir)) * lightEmitted(x, l);
+    return equiangularAngularWeight(m.span, m.n) * sigmaS() * exp(-sigmaT() * (s + r)) * phase(dot(l, -dir)) * lightEmitted(x, l);
   }
   return weight * sigmaS() * exp(-sigmaT() * s) * phase(dot(lightTravelDir(x), -dir)) * lightIncident(x);
 }

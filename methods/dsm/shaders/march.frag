@@ -6,6 +6,7 @@
 // transmittance.
 #include "common.glsl"
 #include "dsm.glsl"
+#include "equiangular.glsl"
 layout(location = 0) uniform int jitter;
 layout(location = 0) out vec4 outInscatter;
 layout(location = 1) out vec4 outVolumeTransmittance;
@@ -54,30 +55,24 @@ void main() {
   tauVolume += sigmaPrev * max(b - sPrev, 0.0);
 
   // Outside the span: the haze in front of the volumes [0, a) and behind them (b, dist]. Point and
-  // spot lights: equiangular samples over the whole ray (weight (theta_b - theta_a) r^2 / (D N),
-  // as raymarch's sampling=equiangular), those inside the span add nothing. Directional: the two
+  // spot lights: equiangular samples over the whole ray (harness/shaders/equiangular.glsl, as
+  // raymarch's sampling=equiangular), those inside the span add nothing. Directional: the two
   // pieces share the samples in proportion to length x the volumes' transmittance (known now), so
   // that haze seen through a dense volume takes few; within a piece the samples are equal steps.
   float front = a, back = max(dist - b, 0.0), haze = front + back;
   bool angular = lightType() != LIGHT_DIRECTIONAL;
-  float delta = 0.0, D = 1.0, thetaA = 0.0, thetaB = 0.0;
-  if (angular) {
-    vec3 toLight = u.lightPos.xyz - eye;
-    delta = dot(toLight, dir);
-    D = max(length(toLight - delta * dir), 1e-6 * max(dist, 1.0));
-    thetaA = atan(-delta, D);
-    thetaB = atan(dist - delta, D);
-  }
+  EquiangularSpan around = EquiangularSpan(0.0, 1.0, 0.0, 0.0);
+  if (angular) around = equiangularSpan(u.lightPos.xyz, eye, dir, dist);
   vec3 through = exp(-tauVolume);
   float behind = max((through.r + through.g + through.b) / 3.0, 1e-30);
   float measure = front + back * behind;  // samples per unit length: 1 in front, `behind` behind
   float dtH = measure / float(max(HAZE_STEPS, 1));
   if (haze > 0.0 && measure > 0.0 && sigmaS() > 0.0) for (int i = 0; i < HAZE_STEPS; ++i) {
-    float ui = (float(i) + (jitter != 0 ? fract(offset + float(i) * 0.7548776662) : 0.5)) / float(HAZE_STEPS);
+    float ui = stratumPosition(i, HAZE_STEPS, offset, jitter != 0, 0.7548776662);
     float s, weight;
     if (angular) {
-      s = clamp(delta + D * tan(mix(thetaA, thetaB, ui)), 0.0, dist);
-      weight = s >= a && s <= b && inside ? 0.0 : (thetaB - thetaA) * (D * D + (s - delta) * (s - delta)) / (D * float(HAZE_STEPS));
+      s = equiangularDistance(around, ui, dist);
+      weight = s >= a && s <= b && inside ? 0.0 : equiangularWeight(around, s, HAZE_STEPS);
     } else {
       float h = ui * measure;
       s = h < front ? h : min(b + (h - front) / behind, dist);

@@ -1,11 +1,13 @@
 #version 450 core
 // Final Gather: along the camera ray, per VPL, L_in times the visibility read from that VPL's
-// scanned grid, at steps spaced equiangularly around the VPL (as raymarch's march.glsl does around
-// a point light), so rays passing close to a VPL converge as fast as the others. The ray lies in one epipolar half-plane of each VPL at one alpha, so its four
+// scanned grid, at steps spaced equiangularly around the VPL (harness/shaders/equiangular.glsl, as
+// raymarch's march does around a point light), so rays passing close to a VPL converge as fast as
+// the others. The ray lies in one epipolar half-plane of each VPL at one alpha, so its four
 // (alpha, theta) columns and their bilinear weights are fixed along the ray; each step only reads
 // the phi bit. One pass covers VPLs [first, first + count), added into L_s (loop budget).
 #include "common.glsl"
 #include "ivsv.glsl"
+#include "equiangular.glsl"
 layout(binding = 11) uniform usampler2DArray grids;
 layout(location = 0) out vec4 outInscatter;
 
@@ -49,15 +51,10 @@ void main() {
     w10 = w01 = w11 = w00;
 #endif
     vec3 light = vpls[k].position.xyz;
-    vec3 toLight = light - eye;
-    float delta = dot(toLight, dir);  // ray parameter closest to the VPL
-    float D = max(length(toLight - delta * dir), 1e-6 * max(dist, 1.0));
-    float thetaA = atan(-delta, D), thetaB = atan(dist - delta, D);
-    float angular = (thetaB - thetaA) / (D * float(n));
+    EquiangularSpan span = equiangularSpan(light, eye, dir, dist);
     for (int i = 0; i < n; ++i) {
-      float ui = (float(i) + (jitter ? fract(pixelOffset + float(i) * goldenRatio) : 0.5)) / float(n);
-      float s = clamp(delta + D * tan(mix(thetaA, thetaB, ui)), 0.0, dist);
-      float weight = angular * (D * D + (s - delta) * (s - delta));  // cancels the 1/r^2 below
+      float s = equiangularDistance(span, stratumPosition(i, n, pixelOffset, jitter, goldenRatio), dist);
+      float weight = equiangularWeight(span, s, n);  // cancels the 1/r^2 below
       vec3 x = eye + dir * s;
       vec3 d = x - light;
       float r2 = max(dot(d, d), 1e-12);
