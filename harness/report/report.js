@@ -753,6 +753,19 @@
         });
       }
       if (scene.raw.frames) check(name + ': frames charts drawn', sec.querySelectorAll('polyline[data-row]').length > 0);
+      Array.prototype.forEach.call(sec.querySelectorAll('video'), function (video) {
+        later(function (next) {
+          var waited = 0;
+          (function poll() {
+            if (video.readyState >= 1 || video.error || waited > 5000) {
+              check(name + ': video loads', video.readyState >= 1 && !video.error, video.getAttribute('src'));
+              return next();
+            }
+            waited += 50;
+            setTimeout(poll, 50);
+          })();
+        });
+      });
     });
     (function run() {
       var step = steps.shift();

@@ -169,6 +169,10 @@ TEST(ReportBrowser, SmallShootoutPassesTheSelfTest) {
   std::string dir = makeTempDir("report-browser");
   writeShootoutFixture(dir + "/shootout/spheres", "spheres", true, false);
   writeShootoutFixture(dir + "/shootout/sunsweep", "sunsweep", true, true);
+  // The animated scene's video beside its folder, as scripts/video writes it (H.264 by ffmpeg).
+  bool video = std::system(("ffmpeg -v error -nostdin -f lavfi -i color=c=gray:s=32x24:d=0.5:r=4 -c:v libx264 "
+                            "-pix_fmt yuv420p -y '" + dir + "/shootout/video-sunsweep.mp4' >/dev/null 2>&1")
+                               .c_str()) == 0;
   CommandResult r = runVshadow({"report", dir + "/shootout"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   json verdict = selfTest(dir + "/shootout/report.html");
@@ -181,6 +185,10 @@ TEST(ReportBrowser, SmallShootoutPassesTheSelfTest) {
   for (const auto& c : verdict.value("checks", json::array()))
     imageChecks += c["name"].get<std::string>().find("image toggle") != std::string::npos;
   EXPECT_EQ(imageChecks, 2u * 3u);  // reference, method and error map in each scene
+  bool videoChecked = false;
+  for (const auto& c : verdict.value("checks", json::array()))
+    videoChecked = videoChecked || c["name"] == "sunsweep: video loads";
+  EXPECT_EQ(videoChecked, video) << (video ? "the video was not shown" : "ffmpeg could not make the test's video");
 
   // The screenshot, kept in the build tree.
   std::string shot = artifactDir() + "/report-small.png";
