@@ -304,131 +304,177 @@ std::string groundTruthUnsupported(const Scene& scene) {
   return "";
 }
 
+namespace {
+
+// The exact-visibility integral of one scene at one size, pixel by pixel (any thread).
+class GroundTruthRenderer {
+ public:
+  GroundTruthRenderer(const Scene& scene, const GroundTruthOptions& options)
+      : scene_(scene), options_(options), tracer_(scene), light_(scene), volumes_(scene) {
+    const int W = options.width, H = options.height;
+    const Camera& cam = scene.camera;
+    glm::dmat4 viewProj = glm::dmat4(cameraProjection(cam, float(W) / float(std::max(H, 1)))) *
+                          glm::dmat4(cameraView(cam));
+    inverse_ = glm::inverse(viewProj);
+    eye_ = dvec3(cam.position);
+    forward_ = glm::normalize(dvec3(cam.target) - eye_);
+    glm::vec3 lo, hi;
+    scene.bounds(lo, hi);
+    surfaceOffset_ = 1e-5 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo)));
+    sigmaS_ = scene.medium.sigmaS;
+    sigmaT_ = scene.medium.sigmaT();
+    reach_ = 4.0 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo))) + glm::length(dvec3(hi) + dvec3(lo));
+    // Area lights: lightGrid^2 stratified samples per camera-ray sample.
+    isArea_ = isAreaLight(scene.light.type);
+    lightGrid_ = std::max(1, int(std::lround(std::sqrt(double(std::max(options.lightSamples, 1))))));
+    lightSamples_ = lightGrid_ * lightGrid_;
+    areaWeight_ = dvec3(scene.light.color) * double(scene.light.intensity) * double(scene.light.area()) /
+                  double(lightSamples_);
+  }
+
+  // L_s and L of pixel (x, y) (row 0 = top) into `out`.
+  void renderPixel(int x, int y, GroundTruth& out) const {
+    const int W = options_.width, H = options_.height;
+    // The pixel centre's ray, as the GPU's G-buffer sky pass computes it.
+    glm::dvec4 p = inverse_ * glm::dvec4((x + 0.5) / W * 2.0 - 1.0, (H - 1 - y + 0.5) / H * 2.0 - 1.0, 1.0, 1.0);
+    dvec3 dir = glm::normalize(dvec3(p) / p.w - eye_);
+    double farDist = scene_.camera.farZ / std::max(glm::dot(dir, forward_), 1e-6);
+    Tracer::Hit hit = firstHitBeyondNear(dir, farDist);
+    double d = hit.hit ? hit.t : farDist;
+    dvec3 viewDepth(0.0);  // optical depth of the volumes along the camera ray
+    dvec3 Ls(0.0);
+    if (sigmaS_ > 0.0 || !volumes_.empty()) Ls = inscatter(dir, d, x, y, viewDepth);
+    dvec3 surface = hit.hit ? surfaceRadiance(hit, dir, d) : dvec3(0.0);
+    dvec3 L = surface * glm::exp(-sigmaT_ * d - viewDepth) + Ls;
+    for (int c = 0; c < 3; ++c) {
+      out.inscatter.at(x, y)[c] = float(Ls[c]);
+      out.final.at(x, y)[c] = float(L[c]);
+    }
+  }
+
+ private:
+  // The rasterizer clips at the near plane: nothing closer than near counts as a hit.
+  Tracer::Hit firstHitBeyondNear(dvec3 dir, double farDist) const {
+    Tracer::Hit hit = tracer_.intersect(eye_, dir, farDist);
+    double nearDist = scene_.camera.nearZ / std::max(glm::dot(dir, forward_), 1e-6);
+    while (hit.hit && hit.t < nearDist) {
+      Tracer::Hit further = tracer_.intersect(eye_ + dir * (hit.t + surfaceOffset_), dir, farDist - hit.t);
+      if (!further.hit) return further;
+      further.t += hit.t + surfaceOffset_;
+      hit = further;
+    }
+    return hit;
+  }
+
+  // Transmittance of the volumes from x towards the light.
+  dvec3 lightTransmittance(dvec3 x) const {
+    return volumes_.empty() ? dvec3(1.0) : glm::exp(-volumes_.opticalDepth(x, light_.source(x, reach_)));
+  }
+
+  // L_s over [0, d] of the ray, with stratified samples, equiangular from point and spot lights (the
+  // weight r^2 cancels L_in's 1/r^2, so rays passing close to the light are integrated as well as
+  // the rest). Adds the volumes' optical depth over the whole ray to viewDepth.
+  dvec3 inscatter(dvec3 dir, double d, int x, int y, dvec3& viewDepth) const {
+    const int N = std::max(options_.steps, 1);
+    bool angular = scene_.light.type != LightType::Directional;
+    dvec3 toLight = light_.position - eye_;
+    double delta = glm::dot(toLight, dir);
+    double D = std::max(glm::length(toLight - delta * dir), 1e-9 * std::max(d, 1.0));
+    double thetaA = std::atan2(-delta, D), thetaB = std::atan2(d - delta, D);
+    double offset = (hash32(uint32_t(x) * 73856093u ^ uint32_t(y) * 19349663u ^ options_.seed) >> 8) / 16777216.0;
+    double sPrev = 0.0;
+    dvec3 Ls(0.0);
+    for (int i = 0; i < N; ++i) {
+      double u = (i + std::fmod(offset + i * 0.61803398875, 1.0)) / N;
+      double s, weight;
+      if (angular) {
+        s = std::clamp(delta + D * std::tan(thetaA + u * (thetaB - thetaA)), 0.0, d);
+        weight = (thetaB - thetaA) * (D * D + (s - delta) * (s - delta)) / (D * N);
+      } else {
+        s = u * d;
+        weight = d / N;
+      }
+      dvec3 xs = eye_ + dir * s;
+      dvec3 scattering(sigmaS_);
+      if (!volumes_.empty()) {
+        viewDepth += volumes_.opticalDepth(eye_ + dir * sPrev, xs);
+        sPrev = s;
+        scattering += volumes_.scattering(xs);
+      }
+      if (scattering == dvec3(0.0)) continue;
+      if (isArea_) {
+        Ls += weight * scattering * glm::exp(-sigmaT_ * s - viewDepth) * areaLightIncident(xs, dir, offset, i) *
+              areaWeight_;
+        continue;
+      }
+      dvec3 V = light_.visible(tracer_, xs);
+      if (V == dvec3(0.0)) continue;
+      Ls += weight * scattering * glm::exp(-sigmaT_ * s - viewDepth) * lightTransmittance(xs) * V *
+            light_.phase(glm::dot(light_.travelDir(xs), -dir)) * light_.incident(xs);
+    }
+    if (!volumes_.empty()) viewDepth += volumes_.opticalDepth(eye_ + dir * sPrev, eye_ + dir * d);
+    return Ls;
+  }
+
+  // An area light's phase-weighted incident light at xs (before areaWeight): stratified, per-pixel
+  // jittered points on the light, each with exact visibility.
+  dvec3 areaLightIncident(dvec3 xs, dvec3 dir, double offset, int i) const {
+    dvec3 sum(0.0);
+    for (int k = 0; k < lightSamples_; ++k) {
+      double lu = (k % lightGrid_ + std::fmod(offset + 0.38196601125 * (k + 1) * (i + 1), 1.0)) / lightGrid_;
+      double lv = (k / lightGrid_ + std::fmod(offset * 1.61803398875 + 0.7548776662 * (k + 1), 1.0)) / lightGrid_;
+      dvec3 p = dvec3(scene_.light.samplePoint(float(std::min(lu, 1.0 - 1e-7)), float(std::min(lv, 1.0 - 1e-7))));
+      dvec3 d = xs - p;
+      double r2 = std::max(glm::dot(d, d), 1e-12), r = std::sqrt(r2);
+      dvec3 l = d / r;
+      double emission = light_.areaEmission(l);
+      if (emission <= 0.0) continue;
+      dvec3 V = tracer_.transmittance(xs, -l, r * (1.0 - 1e-6));
+      sum += V * (emission * std::exp(-sigmaT_ * r) / r2 * light_.phase(glm::dot(l, -dir)));
+    }
+    return sum;
+  }
+
+  // Diffuse reflection of the light at the surface the ray hits at distance d.
+  dvec3 surfaceRadiance(const Tracer::Hit& hit, dvec3 dir, double d) const {
+    dvec3 xs = eye_ + dir * d;
+    dvec3 toLight = -light_.travelDir(xs);
+    double cosine = std::max(glm::dot(hit.normal, toLight), 0.0);
+    if (cosine <= 0.0) return dvec3(0.0);
+    return hit.albedo / kPi * light_.incident(xs) * cosine * lightTransmittance(xs) *
+           light_.visible(tracer_, xs + hit.normal * surfaceOffset_);
+  }
+
+  const Scene& scene_;
+  const GroundTruthOptions& options_;
+  Tracer tracer_;
+  LightModel light_;
+  VolumeModel volumes_;
+  glm::dmat4 inverse_;
+  dvec3 eye_, forward_;
+  double surfaceOffset_ = 0.0, sigmaS_ = 0.0, sigmaT_ = 0.0, reach_ = 0.0;
+  bool isArea_ = false;
+  int lightGrid_ = 1, lightSamples_ = 1;
+  dvec3 areaWeight_{0.0};
+};
+
+}  // namespace
+
 GroundTruth renderGroundTruth(const Scene& scene, const GroundTruthOptions& options,
                               const std::function<void(int, int)>& progress) {
   std::string why = groundTruthUnsupported(scene);
   if (!why.empty()) throw std::runtime_error(why);
   auto start = std::chrono::steady_clock::now();
-  Tracer tracer(scene);
-  LightModel light(scene);
-  const int W = options.width, H = options.height, N = std::max(options.steps, 1);
-  const Camera& cam = scene.camera;
-  glm::dmat4 viewProj = glm::dmat4(cameraProjection(cam, float(W) / float(std::max(H, 1)))) *
-                        glm::dmat4(cameraView(cam));
-  glm::dmat4 inverse = glm::inverse(viewProj);
-  dvec3 eye(cam.position);
-  dvec3 forward = glm::normalize(dvec3(cam.target) - eye);
-  glm::vec3 lo, hi;
-  scene.bounds(lo, hi);
-  double surfaceOffset = 1e-5 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo)));
-  const double sigmaS = scene.medium.sigmaS, sigmaT = scene.medium.sigmaT();
-  VolumeModel volumes(scene);
-  const double reach = 4.0 * std::max(1.0, glm::length(dvec3(hi) - dvec3(lo))) + glm::length(dvec3(hi) + dvec3(lo));
-  // Area lights: lightGrid^2 stratified samples per camera-ray sample.
-  const bool isArea = isAreaLight(scene.light.type);
-  const int lightGrid = std::max(1, int(std::lround(std::sqrt(double(std::max(options.lightSamples, 1))))));
-  const int lightSamples = lightGrid * lightGrid;
-  const dvec3 areaWeight = dvec3(scene.light.color) * double(scene.light.intensity) * double(scene.light.area()) /
-                           double(lightSamples);
-  // Transmittance of the volumes from x towards the light.
-  auto lightTransmittance = [&](dvec3 x) {
-    return volumes.empty() ? dvec3(1.0) : glm::exp(-volumes.opticalDepth(x, light.source(x, reach)));
-  };
-
+  const GroundTruthRenderer renderer(scene, options);
+  const int W = options.width, H = options.height;
   GroundTruth out;
   out.inscatter = Image(W, H);
   out.final = Image(W, H);
+  // Rows are handed out one at a time to every thread; the calling thread reports progress.
   std::atomic<int> nextRow{0}, rowsDone{0};
   auto worker = [&](bool reports) {
     for (int y = nextRow++; y < H; y = nextRow++) {
-      for (int x = 0; x < W; ++x) {
-        // The pixel centre's ray, as the GPU's G-buffer sky pass computes it (row 0 = top).
-        glm::dvec4 p = inverse * glm::dvec4((x + 0.5) / W * 2.0 - 1.0, (H - 1 - y + 0.5) / H * 2.0 - 1.0, 1.0, 1.0);
-        dvec3 dir = glm::normalize(dvec3(p) / p.w - eye);
-        double farDist = cam.farZ / std::max(glm::dot(dir, forward), 1e-6);
-        Tracer::Hit hit = tracer.intersect(eye, dir, farDist);
-        // The rasterizer clips at the near plane: nothing closer than near counts as a hit.
-        double nearDist = cam.nearZ / std::max(glm::dot(dir, forward), 1e-6);
-        while (hit.hit && hit.t < nearDist) {
-          Tracer::Hit further = tracer.intersect(eye + dir * (hit.t + surfaceOffset), dir, farDist - hit.t);
-          if (!further.hit) {
-            hit = further;
-            break;
-          }
-          further.t += hit.t + surfaceOffset;
-          hit = further;
-        }
-        double d = hit.hit ? hit.t : farDist;
-        dvec3 Ls(0.0);
-        dvec3 viewDepth(0.0);  // optical depth of the volumes along the camera ray so far
-        if (sigmaS > 0.0 || !volumes.empty()) {
-          // Stratified samples, equiangular from point and spot lights (the weight r^2 cancels
-          // L_in's 1/r^2, so rays passing close to the light are integrated as well as the rest).
-          bool angular = scene.light.type != LightType::Directional;
-          dvec3 toLight = light.position - eye;
-          double delta = glm::dot(toLight, dir);
-          double D = std::max(glm::length(toLight - delta * dir), 1e-9 * std::max(d, 1.0));
-          double thetaA = std::atan2(-delta, D), thetaB = std::atan2(d - delta, D);
-          double offset = (hash32(uint32_t(x) * 73856093u ^ uint32_t(y) * 19349663u ^ options.seed) >> 8) / 16777216.0;
-          double sPrev = 0.0;
-          for (int i = 0; i < N; ++i) {
-            double u = (i + std::fmod(offset + i * 0.61803398875, 1.0)) / N;
-            double s, weight;
-            if (angular) {
-              s = std::clamp(delta + D * std::tan(thetaA + u * (thetaB - thetaA)), 0.0, d);
-              weight = (thetaB - thetaA) * (D * D + (s - delta) * (s - delta)) / (D * N);
-            } else {
-              s = u * d;
-              weight = d / N;
-            }
-            dvec3 xs = eye + dir * s;
-            dvec3 scattering(sigmaS);
-            if (!volumes.empty()) {
-              viewDepth += volumes.opticalDepth(eye + dir * sPrev, xs);
-              sPrev = s;
-              scattering += volumes.scattering(xs);
-            }
-            if (scattering == dvec3(0.0)) continue;
-            if (isArea) {
-              // Stratified, per-pixel jittered points on the light, each with exact visibility.
-              dvec3 sum(0.0);
-              for (int k = 0; k < lightSamples; ++k) {
-                double lu = (k % lightGrid + std::fmod(offset + 0.38196601125 * (k + 1) * (i + 1), 1.0)) / lightGrid;
-                double lv = (k / lightGrid + std::fmod(offset * 1.61803398875 + 0.7548776662 * (k + 1), 1.0)) / lightGrid;
-                dvec3 p = dvec3(scene.light.samplePoint(float(std::min(lu, 1.0 - 1e-7)), float(std::min(lv, 1.0 - 1e-7))));
-                dvec3 d = xs - p;
-                double r2 = std::max(glm::dot(d, d), 1e-12), r = std::sqrt(r2);
-                dvec3 l = d / r;
-                double emission = light.areaEmission(l);
-                if (emission <= 0.0) continue;
-                dvec3 V = tracer.transmittance(xs, -l, r * (1.0 - 1e-6));
-                sum += V * (emission * std::exp(-sigmaT * r) / r2 * light.phase(glm::dot(l, -dir)));
-              }
-              Ls += weight * scattering * glm::exp(-sigmaT * s - viewDepth) * sum * areaWeight;
-              continue;
-            }
-            dvec3 V = light.visible(tracer, xs);
-            if (V == dvec3(0.0)) continue;
-            Ls += weight * scattering * glm::exp(-sigmaT * s - viewDepth) * lightTransmittance(xs) * V *
-                  light.phase(glm::dot(light.travelDir(xs), -dir)) * light.incident(xs);
-          }
-          if (!volumes.empty()) viewDepth += volumes.opticalDepth(eye + dir * sPrev, eye + dir * d);
-        }
-        dvec3 surface(0.0);
-        if (hit.hit) {
-          dvec3 xs = eye + dir * d;
-          dvec3 toLight = -light.travelDir(xs);
-          double cosine = std::max(glm::dot(hit.normal, toLight), 0.0);
-          if (cosine > 0.0)
-            surface = hit.albedo / kPi * light.incident(xs) * cosine * lightTransmittance(xs) *
-                      light.visible(tracer, xs + hit.normal * surfaceOffset);
-        }
-        dvec3 L = surface * glm::exp(-sigmaT * d - viewDepth) + Ls;
-        for (int c = 0; c < 3; ++c) {
-          out.inscatter.at(x, y)[c] = float(Ls[c]);
-          out.final.at(x, y)[c] = float(L[c]);
-        }
-      }
+      for (int x = 0; x < W; ++x) renderer.renderPixel(x, y, out);
       int done = ++rowsDone;
       if (reports && progress) progress(done, H);
     }
