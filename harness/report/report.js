@@ -698,6 +698,16 @@
           check(name + ': Pareto front marked (' + c + ')', sec.querySelectorAll('[data-time="' + c + '"] circle.front').length > 0);
         });
       }
+      // Hovering a point shows its row: method, params, error and times.
+      var point = sec.querySelector('circle.pt');
+      if (point) {
+        var r = Number(point.getAttribute('data-row')), box = point.getBoundingClientRect();
+        point.dispatchEvent(new MouseEvent('mouseover', { bubbles: true, clientX: box.left + 2, clientY: box.top + 2 }));
+        var tip = tooltip.hidden ? '' : tooltip.textContent;
+        check(name + ': hovering a point shows its row', tip.indexOf(scene.get(r, 'params')) >= 0 &&
+              tip.indexOf(scene.get(r, 'scatter_ms')) >= 0 && tip.indexOf(scene.methodKey(r)) === 0, tip.split('\n')[0]);
+        point.dispatchEvent(new MouseEvent('mouseout', { bubbles: true }));
+      }
       var nonSuccess = scene.rows.filter(function (r, i) { return scene.get(i, 'status') !== 'Success'; }).length;
       check(name + ': Unsupported and failed rows listed', sec.querySelectorAll('.problems li').length === Math.min(200, nonSuccess),
             nonSuccess);
