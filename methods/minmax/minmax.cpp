@@ -54,6 +54,51 @@ std::vector<float> packRanks(const std::vector<float>& values, int rows, int col
       packed[(size_t(i / 4) * size_t(columns) + size_t(x)) * 4 + size_t(i % 4)] = values[size_t(i) * size_t(columns) + size_t(x)];
   return packed;
 }
+
+// The view as computeEpipolarFrame reads it.
+minmax::ViewInput viewInput(const Frame& frame, double epipoleRadius) {
+  const FrameUniforms& fu = frame.uniforms;
+  minmax::ViewInput in;
+  in.viewProj = glm::dmat4(fu.viewProj);
+  in.invViewProj = glm::dmat4(fu.invViewProj);
+  in.eye = glm::dvec3(fu.eye);
+  in.forward = glm::dvec3(fu.cameraForward);
+  in.farZ = fu.cameraClip.y;
+  in.width = frame.width;
+  in.height = frame.height;
+  in.directional = frame.scene.light.type == LightType::Directional;
+  in.lightPos = glm::dvec3(fu.lightPos);
+  in.lightTravelDir = glm::dvec3(fu.lightDir);
+  in.boundsLo = glm::dvec3(frame.geometry.boundsLo);
+  in.boundsHi = glm::dvec3(frame.geometry.boundsHi);
+  in.epipoleRadius = epipoleRadius;
+  return in;
+}
+
+// Pixels around the epipole that the Near Epipole pass marches, as the shaders get it
+// (epipoleInfo.x); -1 when there is no epipole.
+float nearEpipoleRadius(const minmax::EpipolarFrame& e, double epipoleRadius) {
+  return e.epipoleValid ? float(epipoleRadius) : -1.0f;
+}
+
+// The Near Epipole pass's pixels (x0, y0, x1, y1): the square around the epipole within the
+// viewport; the whole viewport when the light is at the eye; empty when there is no epipole.
+glm::ivec4 nearEpipoleRect(const minmax::EpipolarFrame& e, float radius, int width, int height) {
+  int x0 = 0, y0 = 0, x1 = width, y1 = height;
+  if (!e.degenerate) {
+    double r = radius;
+    glm::dvec2 p = e.epipolePixel;
+    if (r <= 0.0 || !std::isfinite(p.x) || !std::isfinite(p.y)) {
+      x1 = x0;
+    } else {
+      x0 = int(std::clamp(std::floor(p.x - r), 0.0, double(width)));
+      x1 = int(std::clamp(std::ceil(p.x + r), 0.0, double(width)));
+      y0 = int(std::clamp(std::floor(p.y - r), 0.0, double(height)));
+      y1 = int(std::clamp(std::ceil(p.y + r), 0.0, double(height)));
+    }
+  }
+  return glm::ivec4(x0, y0, x1, y1);
+}
 }  // namespace
 
 std::string MinmaxMethod::description() const {
@@ -145,97 +190,25 @@ void MinmaxMethod::allocate(int slices, int rowLength, int rank, bool textured) 
   }
 }
 
+// The passes of the paper's table, in its order; each step below is one pass.
 void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
-  const FrameUniforms& fu = frame.uniforms;
   frame.bindShared();
   glBindBufferBase(GL_UNIFORM_BUFFER, kEpipolarUboBinding, epipolarUbo_.id());
-  EpipolarUniforms eu{};
   {
     auto scope = timer.scope(kRectifyPass);
-    // Epipolar frame of this view (CPU), then one texel per (light ray, slice).
-    minmax::ViewInput in;
-    in.viewProj = glm::dmat4(fu.viewProj);
-    in.invViewProj = glm::dmat4(fu.invViewProj);
-    in.eye = glm::dvec3(fu.eye);
-    in.forward = glm::dvec3(fu.cameraForward);
-    in.farZ = fu.cameraClip.y;
-    in.width = frame.width;
-    in.height = frame.height;
-    in.directional = frame.scene.light.type == LightType::Directional;
-    in.lightPos = glm::dvec3(fu.lightPos);
-    in.lightTravelDir = glm::dvec3(fu.lightDir);
-    in.boundsLo = glm::dvec3(frame.geometry.boundsLo);
-    in.boundsHi = glm::dvec3(frame.geometry.boundsHi);
-    in.epipoleRadius = epipoleRadius_;
-    epipolar_ = minmax::computeEpipolarFrame(in);
-
-    int rank = std::min(rank_, kMaxRank);
-    int maxSlices = std::min(8192, textured_ ? maxTextureSize_ / rank : maxTextureSize_);
-    int slices = std::clamp(slicesParam_ > 0 ? slicesParam_ : epipolar_.autoSlices, 1, maxSlices);
-    int rowLength = nextPowerOfTwo(std::max(rowParam_ > 0 ? rowParam_ : frame.shadowMap.size, 16));
-    rowLength = std::min(rowLength, std::max(maxTextureSize_ / 2, 16));
-    allocate(slices, rowLength, rank, textured_);
-
-    const auto& e = epipolar_;
-    eu.invLightViewProj = glm::inverse(fu.lightViewProj);
-    eu.axis = glm::vec4(glm::vec3(e.axis), float(e.eyeLightDistance));
-    eu.basis0 = glm::vec4(glm::vec3(e.n0), float(e.alphaLo));
-    eu.basis1 = glm::vec4(glm::vec3(e.n1), float(e.alphaRange));
-    eu.gammaInfo = glm::vec4(float(e.gammaMap), float(e.gammaAll), float(rowLength), 0.0f);
-    eu.betaInfo = glm::vec4(float(e.betaLo), float(e.betaHi), float(e.epipolePixel.x), float(e.epipolePixel.y));
-    eu.epipoleInfo = glm::vec4(e.epipoleValid ? float(epipoleRadius_) : -1.0f, float(epipoleSteps_),
-                               e.degenerate ? 1.0f : 0.0f, 0.0f);
-    eu.counts = glm::ivec4(slices, rank, kPrefixRes, textureRes_);
-    eu.flags = glm::ivec4(upOneLevel_ ? 1 : 0, delayGamma_ ? 1 : 0, textured_ ? 1 : 0, 0);
-    glNamedBufferSubData(epipolarUbo_.id(), 0, sizeof(eu), &eu);
-
-    glUseProgram(rectifyProgram_.id());
-    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    dispatchBlocks(long(slices) * (rowLength / kRectifyBlock));
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    rectifyShadowMap(frame);
   }
   {
     auto scope = timer.scope(kLowRankPass);
-    // CPU: SVD of the smooth integrand on the 64x64 grid, prefix sums of Gamma_i; upload.
-    minmax::MediumParams m;
-    m.directional = epipolar_.directional;
-    m.sigmaS = frame.scene.medium.sigmaS;
-    m.sigmaT = frame.scene.medium.sigmaT();
-    m.hg = frame.scene.medium.phase == Phase::HenyeyGreenstein;
-    m.g = frame.scene.medium.g;
-    minmax::LowRank lr = minmax::lowRankApproximation(epipolar_, m, allocatedRank_, kPrefixRes);
-    energy_ = lr.energy;
-    // Ranks the SVD did not give (lr.rank < the allocated rank) are zero, not stale.
-    int groups = rankGroups(allocatedRank_);
-    std::vector<float> basisGamma(size_t(allocatedRank_) * minmax::kGrid, 0.0f);
-    std::copy(lr.basisGamma.begin(), lr.basisGamma.begin() + long(lr.rank) * minmax::kGrid, basisGamma.begin());
-    glTextureSubImage2D(basisBeta_.id(), 0, 0, 0, minmax::kGrid, groups, GL_RGBA, GL_FLOAT,
-                        packRanks(lr.basisBeta, lr.rank, minmax::kGrid, allocatedRank_).data());
-    glTextureSubImage2D(basisGamma_.id(), 0, 0, 0, minmax::kGrid, allocatedRank_, GL_RED, GL_FLOAT, basisGamma.data());
-    glTextureSubImage2D(gammaPrefix_.id(), 0, 0, 0, kPrefixRes + 1, groups, GL_RGBA, GL_FLOAT,
-                        packRanks(lr.prefix, lr.rank, kPrefixRes + 1, allocatedRank_).data());
+    uploadLowRankApproximation(frame.scene.medium);
   }
   if (textured_) {
     auto scope = timer.scope(kLightTexturePass);
-    glUseProgram(lightTextureProgram_.id());
-    glBindTextureUnit(kUnitBasisGamma, basisGamma_.id());
-    glBindImageTexture(0, texturedPrefix_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glDispatchCompute(GLuint((slices_ + 63) / 64), 1, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    precomputeLightTexture();
   }
   {
     auto scope = timer.scope(kMipmapPass);
-    glUseProgram(mipmapProgram_.id());
-    glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glUniform1i(2, slices_);
-    // Rectification stored the leaves and the three levels above them (a row of 16: all); each pass
-    // here reads one level and writes up to three above it, the last pass four (kBlock in the shader).
-    int first = rowLength_ > kRectifyBlock ? rowLength_ / (kRectifyBlock / 2) : 1;
-    for (int inWidth = first; inWidth > 1; inWidth = inWidth > kMipmapBlock ? inWidth / (kMipmapBlock / 2) : 1) {
-      glUniform1i(0, inWidth);
-      dispatchBlocks(long(slices_) * (inWidth / std::min(inWidth, kMipmapBlock)));
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    }
+    buildMinMaxMipmaps();
   }
   glBindFramebuffer(GL_FRAMEBUFFER, frame.inscatterFbo);
   glViewport(0, 0, frame.width, frame.height);
@@ -243,36 +216,114 @@ void MinmaxMethod::render(const Frame& frame, PassTimer& timer) {
   glDisable(GL_BLEND);
   {
     auto scope = timer.scope(kIntegrationPass);
-    glUseProgram(counting_ ? countingProgram_.id() : integrateProgram_.id());
-    if (counting_) counters_.bind();
-    glBindTextureUnit(kUnitTree, tree_.id());
-    glBindTextureUnit(kUnitBasisBeta, basisBeta_.id());
-    glBindTextureUnit(kUnitGammaPrefix, gammaPrefix_.id());
-    glBindTextureUnit(kUnitTexturedPrefix, texturedPrefix_.id());
-    gl::drawFullscreenTriangle();
+    integrate();
   }
   // Pixels near the epipole: a scissored, ray-marched pass (skipped when none is on screen).
-  int x0 = 0, y0 = 0, x1 = frame.width, y1 = frame.height;
-  if (!epipolar_.degenerate) {
-    double r = eu.epipoleInfo.x;
-    glm::dvec2 p = epipolar_.epipolePixel;
-    if (r <= 0.0 || !std::isfinite(p.x) || !std::isfinite(p.y)) {
-      x1 = x0;
-    } else {
-      x0 = int(std::clamp(std::floor(p.x - r), 0.0, double(frame.width)));
-      x1 = int(std::clamp(std::ceil(p.x + r), 0.0, double(frame.width)));
-      y0 = int(std::clamp(std::floor(p.y - r), 0.0, double(frame.height)));
-      y1 = int(std::clamp(std::ceil(p.y + r), 0.0, double(frame.height)));
-    }
-  }
-  if (x1 > x0 && y1 > y0) {
+  glm::ivec4 rect = nearEpipoleRect(epipolar_, nearEpipoleRadius(epipolar_, epipoleRadius_), frame.width, frame.height);
+  if (rect.z > rect.x && rect.w > rect.y) {
     auto scope = timer.scope(kNearEpipolePass);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(x0, y0, x1 - x0, y1 - y0);
-    glUseProgram(nearEpipoleProgram_.id());
-    gl::drawFullscreenTriangle();
-    glDisable(GL_SCISSOR_TEST);
+    marchNearEpipole(rect);
   }
+}
+
+// Shadow Map Rectification: the epipolar frame of this view (CPU), textures sized for it, its
+// uniforms, then one texel per (light ray, slice).
+void MinmaxMethod::rectifyShadowMap(const Frame& frame) {
+  epipolar_ = minmax::computeEpipolarFrame(viewInput(frame, epipoleRadius_));
+  int rank = std::min(rank_, kMaxRank);
+  int maxSlices = std::min(8192, textured_ ? maxTextureSize_ / rank : maxTextureSize_);
+  int slices = std::clamp(slicesParam_ > 0 ? slicesParam_ : epipolar_.autoSlices, 1, maxSlices);
+  int rowLength = nextPowerOfTwo(std::max(rowParam_ > 0 ? rowParam_ : frame.shadowMap.size, 16));
+  rowLength = std::min(rowLength, std::max(maxTextureSize_ / 2, 16));
+  allocate(slices, rowLength, rank, textured_);  // slices_, rowLength_, allocatedRank_ from here on
+  uploadEpipolarUniforms(frame.uniforms);
+
+  glUseProgram(rectifyProgram_.id());
+  glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchBlocks(long(slices_) * (rowLength_ / kRectifyBlock));
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+// EpipolarBlock of this frame, after allocate().
+void MinmaxMethod::uploadEpipolarUniforms(const FrameUniforms& fu) {
+  const auto& e = epipolar_;
+  EpipolarUniforms eu{};
+  eu.invLightViewProj = glm::inverse(fu.lightViewProj);
+  eu.axis = glm::vec4(glm::vec3(e.axis), float(e.eyeLightDistance));
+  eu.basis0 = glm::vec4(glm::vec3(e.n0), float(e.alphaLo));
+  eu.basis1 = glm::vec4(glm::vec3(e.n1), float(e.alphaRange));
+  eu.gammaInfo = glm::vec4(float(e.gammaMap), float(e.gammaAll), float(rowLength_), 0.0f);
+  eu.betaInfo = glm::vec4(float(e.betaLo), float(e.betaHi), float(e.epipolePixel.x), float(e.epipolePixel.y));
+  eu.epipoleInfo = glm::vec4(nearEpipoleRadius(e, epipoleRadius_), float(epipoleSteps_), e.degenerate ? 1.0f : 0.0f, 0.0f);
+  eu.counts = glm::ivec4(slices_, allocatedRank_, kPrefixRes, textureRes_);
+  eu.flags = glm::ivec4(upOneLevel_ ? 1 : 0, delayGamma_ ? 1 : 0, textured_ ? 1 : 0, 0);
+  glNamedBufferSubData(epipolarUbo_.id(), 0, sizeof(eu), &eu);
+}
+
+// Low-Rank Approximation (CPU): SVD of the smooth integrand on the 64x64 grid, prefix sums of
+// Gamma_i; upload.
+void MinmaxMethod::uploadLowRankApproximation(const Medium& medium) {
+  minmax::MediumParams m;
+  m.directional = epipolar_.directional;
+  m.sigmaS = medium.sigmaS;
+  m.sigmaT = medium.sigmaT();
+  m.hg = medium.phase == Phase::HenyeyGreenstein;
+  m.g = medium.g;
+  minmax::LowRank lr = minmax::lowRankApproximation(epipolar_, m, allocatedRank_, kPrefixRes);
+  energy_ = lr.energy;
+  // Ranks the SVD did not give (lr.rank < the allocated rank) are zero, not stale.
+  int groups = rankGroups(allocatedRank_);
+  std::vector<float> basisGamma(size_t(allocatedRank_) * minmax::kGrid, 0.0f);
+  std::copy(lr.basisGamma.begin(), lr.basisGamma.begin() + long(lr.rank) * minmax::kGrid, basisGamma.begin());
+  glTextureSubImage2D(basisBeta_.id(), 0, 0, 0, minmax::kGrid, groups, GL_RGBA, GL_FLOAT,
+                      packRanks(lr.basisBeta, lr.rank, minmax::kGrid, allocatedRank_).data());
+  glTextureSubImage2D(basisGamma_.id(), 0, 0, 0, minmax::kGrid, allocatedRank_, GL_RED, GL_FLOAT, basisGamma.data());
+  glTextureSubImage2D(gammaPrefix_.id(), 0, 0, 0, kPrefixRes + 1, groups, GL_RGBA, GL_FLOAT,
+                      packRanks(lr.prefix, lr.rank, kPrefixRes + 1, allocatedRank_).data());
+}
+
+// Light Texture Precomputation (light texture or spot cone): per-slice prefix tables.
+void MinmaxMethod::precomputeLightTexture() {
+  glUseProgram(lightTextureProgram_.id());
+  glBindTextureUnit(kUnitBasisGamma, basisGamma_.id());
+  glBindImageTexture(0, texturedPrefix_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glDispatchCompute(GLuint((slices_ + 63) / 64), 1, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+// Mipmap Construction: the min-max levels of every rectified row, in place in tree_.
+void MinmaxMethod::buildMinMaxMipmaps() {
+  glUseProgram(mipmapProgram_.id());
+  glBindImageTexture(3, tree_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glUniform1i(2, slices_);
+  // Rectification stored the leaves and the three levels above them (a row of 16: all); each pass
+  // here reads one level and writes up to three above it, the last pass four (kBlock in the shader).
+  int first = rowLength_ > kRectifyBlock ? rowLength_ / (kRectifyBlock / 2) : 1;
+  for (int inWidth = first; inWidth > 1; inWidth = inWidth > kMipmapBlock ? inWidth / (kMipmapBlock / 2) : 1) {
+    glUniform1i(0, inWidth);
+    dispatchBlocks(long(slices_) * (inWidth / std::min(inWidth, kMipmapBlock)));
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+}
+
+// Integration: every pixel traverses its slice's min-max tree (into the bound inscatter target).
+void MinmaxMethod::integrate() {
+  glUseProgram(counting_ ? countingProgram_.id() : integrateProgram_.id());
+  if (counting_) counters_.bind();
+  glBindTextureUnit(kUnitTree, tree_.id());
+  glBindTextureUnit(kUnitBasisBeta, basisBeta_.id());
+  glBindTextureUnit(kUnitGammaPrefix, gammaPrefix_.id());
+  glBindTextureUnit(kUnitTexturedPrefix, texturedPrefix_.id());
+  gl::drawFullscreenTriangle();
+}
+
+// Near Epipole: ray marches the pixels of rect (x0, y0, x1, y1).
+void MinmaxMethod::marchNearEpipole(const glm::ivec4& rect) {
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(rect.x, rect.y, rect.z - rect.x, rect.w - rect.y);
+  glUseProgram(nearEpipoleProgram_.id());
+  gl::drawFullscreenTriangle();
+  glDisable(GL_SCISSOR_TEST);
 }
 
 bool MinmaxMethod::beginWorkCount(int width, int height) {

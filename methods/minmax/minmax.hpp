@@ -34,6 +34,14 @@ class MinmaxMethod : public Method {
 
  private:
   void allocate(int slices, int rowLength, int rank, bool textured);
+  // The passes of render(), one step each, in the paper's order.
+  void rectifyShadowMap(const Frame& frame);  // Shadow Map Rectification
+  void uploadEpipolarUniforms(const FrameUniforms& fu);
+  void uploadLowRankApproximation(const Medium& medium);  // Low-Rank Approximation
+  void precomputeLightTexture();  // Light Texture Precomputation
+  void buildMinMaxMipmaps();      // Mipmap Construction
+  void integrate();               // Integration
+  void marchNearEpipole(const glm::ivec4& rect);  // Near Epipole
 
   // Knobs.
   int slicesParam_ = 0, rank_ = 4, rowParam_ = 0, textureRes_ = 256, epipoleSteps_ = 256;
