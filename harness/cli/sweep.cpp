@@ -124,38 +124,33 @@ std::string sweepFolderProblem(const std::string& out) {
 
 }  // namespace
 
-Sweep loadSweep(const std::string& path, const MethodRegistry& registry) {
-  std::string text, error;
-  if (!readFile(path, text, error)) throwSceneError(path, "", "cannot open sweep file: " + error);
-  Json document = parseJsonStrict(text, path);
-  ObjectReader r(document, JsonLocation{path, ""});
-  r.declare({"description", "scenes", "methods", "sizes", "seeds", "frames", "warmup", "reference", "split", "timer",
-             "images", "exact", "exact_steps", "equal_quality"});
-  Sweep sweep;
-  sweep.source = path;
-  sweep.description = r.string("description", "");
-  fs::path base = fs::absolute(path).parent_path();
+namespace {
 
-  auto stringList = [&](const std::string& key, bool required) {
-    std::vector<std::string> items;
-    const Json* value = required ? &r.required(key) : r.optional(key);
-    if (!value) return items;
-    JsonLocation at = r.locationOf(key);
-    if (!value->is_array()) at.fail("expected an array of strings");
-    if (value->empty()) at.fail("must not be empty");
-    std::set<std::string> seen;
-    for (size_t i = 0; i < value->size(); ++i) {
-      std::string s = readString((*value)[i], at.item(i));
-      if (s.empty()) at.item(i).fail("must not be empty");
-      if (!seen.insert(s).second) at.item(i).fail("'" + s + "' is listed twice");
-      items.push_back(s);
-    }
-    return items;
-  };
+// A non-empty array of distinct, non-empty strings at `key` (empty when optional and absent).
+std::vector<std::string> readStringList(ObjectReader& r, const std::string& key, bool required) {
+  std::vector<std::string> items;
+  const Json* value = required ? &r.required(key) : r.optional(key);
+  if (!value) return items;
+  JsonLocation at = r.locationOf(key);
+  if (!value->is_array()) at.fail("expected an array of strings");
+  if (value->empty()) at.fail("must not be empty");
+  std::set<std::string> seen;
+  for (size_t i = 0; i < value->size(); ++i) {
+    std::string s = readString((*value)[i], at.item(i));
+    if (s.empty()) at.item(i).fail("must not be empty");
+    if (!seen.insert(s).second) at.item(i).fail("'" + s + "' is listed twice");
+    items.push_back(s);
+  }
+  return items;
+}
 
-  std::vector<std::string> sceneEntries = stringList("scenes", true);
-  for (size_t i = 0; i < sceneEntries.size(); ++i) {
-    std::string scene = sceneEntries[i];
+// "scenes": built-in names, or files relative to the sweep file's folder; each one loads, and no
+// two share a shard id part.
+std::vector<std::string> readSweepScenes(ObjectReader& r, const fs::path& base) {
+  std::vector<std::string> scenes;
+  std::vector<std::string> entries = readStringList(r, "scenes", true);
+  for (size_t i = 0; i < entries.size(); ++i) {
+    std::string scene = entries[i];
     if (!isBuiltinScene(scene)) {
       bool looksLikeName = scene.find('/') == std::string::npos && fs::path(scene).extension() != ".json";
       if (looksLikeName && !fs::exists(base / scene)) {
@@ -174,19 +169,23 @@ Sweep loadSweep(const std::string& path, const MethodRegistry& registry) {
         r.locationOf("scenes").item(i).fail(e.what());
       }
     }
-    sweep.scenes.push_back(scene);
+    scenes.push_back(scene);
   }
   std::map<std::string, std::string> labels;
-  for (const auto& scene : sweep.scenes) {
+  for (const auto& scene : scenes) {
     auto [it, fresh] = labels.emplace(sceneLabel(scene), scene);
     if (!fresh)
       r.fail("scenes", "'" + it->second + "' and '" + scene + "' would share the shard id part '" + it->first +
                            "' (rename one file)");
   }
+  return scenes;
+}
 
-  sweep.methods = stringList("methods", true);
-  for (size_t i = 0; i < sweep.methods.size(); ++i) {
-    const std::string& entry = sweep.methods[i];
+// "methods": names (their ladders) or full specs, each of which resolves.
+std::vector<std::string> readSweepMethods(ObjectReader& r, const MethodRegistry& registry) {
+  std::vector<std::string> methods = readStringList(r, "methods", true);
+  for (size_t i = 0; i < methods.size(); ++i) {
+    const std::string& entry = methods[i];
     try {
       if (entry.find(':') == std::string::npos) {
         for (const auto& spec : entrySpecs(entry, true, registry)) specShadowMap(spec, registry);
@@ -197,26 +196,48 @@ Sweep loadSweep(const std::string& path, const MethodRegistry& registry) {
       r.locationOf("methods").item(i).fail(e.what());
     }
   }
+  return methods;
+}
 
-  sweep.sizes = stringList("sizes", false);
-  if (sweep.sizes.empty()) sweep.sizes = {"512x512"};
+std::vector<std::string> readSweepSizes(ObjectReader& r) {
+  std::vector<std::string> sizes = readStringList(r, "sizes", false);
+  if (sizes.empty()) sizes = {"512x512"};
   static const std::regex sizeRe(R"(^([1-9][0-9]{0,5})x([1-9][0-9]{0,5})$)");
-  for (size_t i = 0; i < sweep.sizes.size(); ++i)
-    if (!std::regex_match(sweep.sizes[i], sizeRe))
-      r.locationOf("sizes").item(i).fail("'" + sweep.sizes[i] + "': expected WxH, e.g. 512x512");
+  for (size_t i = 0; i < sizes.size(); ++i)
+    if (!std::regex_match(sizes[i], sizeRe)) r.locationOf("sizes").item(i).fail("'" + sizes[i] + "': expected WxH, e.g. 512x512");
+  return sizes;
+}
 
-  if (const Json* seeds = r.optional("seeds")) {
-    JsonLocation at = r.locationOf("seeds");
-    if (!seeds->is_array() || seeds->empty()) at.fail("expected a non-empty array of integers");
-    for (size_t i = 0; i < seeds->size(); ++i) {
-      long long s = readInteger((*seeds)[i], at.item(i), 0, 4294967295LL);
-      if (std::find(sweep.seeds.begin(), sweep.seeds.end(), s) != sweep.seeds.end())
-        at.item(i).fail(std::to_string(s) + " is listed twice");
-      sweep.seeds.push_back(s);
-    }
-  } else {
-    sweep.seeds = {1};
+std::vector<long long> readSweepSeeds(ObjectReader& r) {
+  const Json* seeds = r.optional("seeds");
+  if (!seeds) return {1};
+  std::vector<long long> out;
+  JsonLocation at = r.locationOf("seeds");
+  if (!seeds->is_array() || seeds->empty()) at.fail("expected a non-empty array of integers");
+  for (size_t i = 0; i < seeds->size(); ++i) {
+    long long s = readInteger((*seeds)[i], at.item(i), 0, 4294967295LL);
+    if (std::find(out.begin(), out.end(), s) != out.end()) at.item(i).fail(std::to_string(s) + " is listed twice");
+    out.push_back(s);
   }
+  return out;
+}
+
+}  // namespace
+
+Sweep loadSweep(const std::string& path, const MethodRegistry& registry) {
+  std::string text, error;
+  if (!readFile(path, text, error)) throwSceneError(path, "", "cannot open sweep file: " + error);
+  Json document = parseJsonStrict(text, path);
+  ObjectReader r(document, JsonLocation{path, ""});
+  r.declare({"description", "scenes", "methods", "sizes", "seeds", "frames", "warmup", "reference", "split", "timer",
+             "images", "exact", "exact_steps", "equal_quality"});
+  Sweep sweep;
+  sweep.source = path;
+  sweep.description = r.string("description", "");
+  sweep.scenes = readSweepScenes(r, fs::absolute(path).parent_path());
+  sweep.methods = readSweepMethods(r, registry);
+  sweep.sizes = readSweepSizes(r);
+  sweep.seeds = readSweepSeeds(r);
   sweep.frames = int(r.integer("frames", sweep.frames, 1, 100000));
   sweep.warmup = int(r.integer("warmup", sweep.warmup, 0, 100000));
   sweep.reference = r.string("reference", "default");
