@@ -69,11 +69,9 @@ glm::dvec3 pixelRay(const ViewInput& in, double x, double y) {
   return len > 1e-300 ? d / len : in.forward;
 }
 
-EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
-  EpipolarFrame f;
-  f.directional = in.directional;
-  glm::dvec3 extent = in.boundsHi - in.boundsLo;
-  double sceneScale = std::max({1.0, glm::length(extent), glm::length(in.eye)});
+namespace {
+// The axis towards the light, D, and the slice basis n0, n1 around the axis.
+void fitAxisAndBasis(const ViewInput& in, double sceneScale, EpipolarFrame& f) {
   if (in.directional) {
     double len = glm::length(in.lightTravelDir);
     f.axis = len > 1e-300 ? -in.lightTravelDir / len : glm::dvec3(0, 1, 0);
@@ -91,8 +89,11 @@ EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
   }
   f.n0 = perpendicular(f.axis);
   f.n1 = glm::cross(f.axis, f.n0);
+}
 
-  // The epipole: where the axis (or its antipode) meets the image plane.
+// The epipole: where the axis (or its antipode) meets the image plane. Returns the axis's clip w:
+// > 0 when the epipole is in front of the eye, otherwise the antipode is.
+double locateEpipole(const ViewInput& in, EpipolarFrame& f) {
   glm::dvec4 clip = in.viewProj * glm::dvec4(in.eye + f.axis, 1.0);
   double clipScale = std::max({std::fabs(clip.x), std::fabs(clip.y), std::fabs(clip.w), 1e-300});
   if (std::fabs(clip.w) > 1e-9 * clipScale) {
@@ -101,44 +102,58 @@ EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
   }
   f.fullCircle = f.epipoleValid && f.epipolePixel.x >= -1.0 && f.epipolePixel.x <= in.width + 1.0 &&
                  f.epipolePixel.y >= -1.0 && f.epipolePixel.y <= in.height + 1.0;
+  return clip.w;
+}
 
-  // Sample the screen: alpha range, slice density (pixels per radian of alpha), beta and gamma ranges.
+// What 33 x 33 rays across the screen span: alpha relative to the centre ray's, the slice density
+// (pixels per radian of alpha), beta, and the largest gamma up to the far plane.
+struct ScreenSpan {
+  double alphaCentre = 0.0;
+  double relLo = 0.0, relHi = 0.0, pixelsPerRadian = 1.0;
+  double betaLo = kPi, betaHi = 0.0, gammaAll = 0.0;
+};
+
+ScreenSpan sampleScreen(const ViewInput& in, const EpipolarFrame& f) {
   const int samples = 33;
   auto alphaOf = [&](glm::dvec3 v) {
     glm::dvec3 perp = v - f.axis * glm::dot(v, f.axis);
     return std::atan2(glm::dot(perp, f.n1), glm::dot(perp, f.n0));
   };
-  double alphaCentre = alphaOf(pixelRay(in, 0.5 * in.width, 0.5 * in.height));
-  double relLo = 0.0, relHi = 0.0, pixelsPerRadian = 1.0;
-  double betaLo = kPi, betaHi = 0.0, gammaAll = 0.0;
+  ScreenSpan s;
+  s.alphaCentre = alphaOf(pixelRay(in, 0.5 * in.width, 0.5 * in.height));
   for (int j = 0; j < samples; ++j) {
     for (int i = 0; i < samples; ++i) {
       double x = 0.5 + (in.width - 1.0) * i / (samples - 1.0);
       double y = 0.5 + (in.height - 1.0) * j / (samples - 1.0);
       glm::dvec3 v = pixelRay(in, x, y);
-      double rel = wrapAngle(alphaOf(v) - alphaCentre);
-      relLo = std::min(relLo, rel);
-      relHi = std::max(relHi, rel);
+      double rel = wrapAngle(alphaOf(v) - s.alphaCentre);
+      s.relLo = std::min(s.relLo, rel);
+      s.relHi = std::max(s.relHi, rel);
       const double delta = 1e-4;
       glm::dvec2 p0, p1;
       if (projectDirection(in, v, p0) && projectDirection(in, rotateAbout(v, f.axis, delta), p1))
-        pixelsPerRadian = std::max(pixelsPerRadian, glm::length(p1 - p0) / delta);
+        s.pixelsPerRadian = std::max(s.pixelsPerRadian, glm::length(p1 - p0) / delta);
       double cosBeta = clampUnit(glm::dot(v, f.axis));
       double sinBeta = glm::length(glm::cross(v, f.axis));
       double beta = std::atan2(sinBeta, cosBeta);
-      betaLo = std::min(betaLo, beta);
-      betaHi = std::max(betaHi, beta);
+      s.betaLo = std::min(s.betaLo, beta);
+      s.betaHi = std::max(s.betaHi, beta);
       double farDist = in.farZ / std::max(glm::dot(v, in.forward), 1e-6);
       double gamma = in.directional ? farDist * sinBeta
                                     : std::atan2(farDist * sinBeta, f.eyeLightDistance - farDist * cosBeta);
-      gammaAll = std::max(gammaAll, gamma);
+      s.gammaAll = std::max(s.gammaAll, gamma);
     }
   }
-  // The beta range of the low-rank grid starts at the epipole when it is on screen; the pixels
-  // within epipoleRadius of it are ray-marched, and the set {beta < b} is a convex cone around the
-  // axis, so the smallest beta on that circle bounds every other pixel's (the largest, around the
-  // antipode). The rank then goes to the betas the Integration pass sees: exact-visibility L_s
-  // relMSE on trees at 384x288, rank=4, 8.1e-3 -> 6.7e-3 (the floor of the visibility is 5.5e-3).
+  return s;
+}
+
+// The beta range of the low-rank grid starts at the epipole when it is on screen; the pixels
+// within epipoleRadius of it are ray-marched, and the set {beta < b} is a convex cone around the
+// axis, so the smallest beta on that circle bounds every other pixel's (the largest, around the
+// antipode). The rank then goes to the betas the Integration pass sees: exact-visibility L_s
+// relMSE on trees at 384x288, rank=4, 8.1e-3 -> 6.7e-3 (the floor of the visibility is 5.5e-3).
+// Returns the smallest and largest beta on that circle ((0, pi) when there is none).
+glm::dvec2 epipoleRingBetas(const ViewInput& in, const EpipolarFrame& f) {
   double ringLo = 0.0, ringHi = kPi;
   if (f.fullCircle && in.epipoleRadius > 0.0) {
     const int ring = 64;
@@ -156,21 +171,32 @@ EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
     ringLo *= 0.99;
     ringHi = kPi - (kPi - ringHi) * 0.99;
   }
+  return glm::dvec2(ringLo, ringHi);
+}
+
+// The alpha range and slice count, then the beta range: bounded by the epipole's ring on the side
+// of the epipole (epipoleW > 0) or of its antipode, by the screen samples with a margin elsewhere.
+void fitAlphaAndBeta(const ViewInput& in, ScreenSpan s, double epipoleW, EpipolarFrame& f) {
+  glm::dvec2 ring = epipoleRingBetas(in, f);
   if (f.fullCircle) {
     f.alphaLo = -kPi;
     f.alphaRange = 2.0 * kPi;
-    if (clip.w > 0) betaLo = ringLo; else betaHi = ringHi;
+    if (epipoleW > 0) s.betaLo = ring.x; else s.betaHi = ring.y;
   } else {
-    double margin = 2.0 / pixelsPerRadian;  // two pixels on either side
-    f.alphaLo = alphaCentre + relLo - margin;
-    f.alphaRange = std::min(relHi - relLo + 2.0 * margin, 2.0 * kPi);
+    double margin = 2.0 / s.pixelsPerRadian;  // two pixels on either side
+    f.alphaLo = s.alphaCentre + s.relLo - margin;
+    f.alphaRange = std::min(s.relHi - s.relLo + 2.0 * margin, 2.0 * kPi);
   }
-  f.autoSlices = std::clamp(int(std::ceil(f.alphaRange * pixelsPerRadian)), 16, 8192);
+  f.autoSlices = std::clamp(int(std::ceil(f.alphaRange * s.pixelsPerRadian)), 16, 8192);
   // A margin for the 33 x 33 samples (none at a ring bound, which is exact).
   bool ringBound = f.fullCircle && in.epipoleRadius > 0.0;
-  f.betaLo = ringBound && clip.w > 0 ? betaLo : std::max(0.0, betaLo - 0.01);
-  f.betaHi = ringBound && clip.w <= 0 ? betaHi : std::min(kPi, betaHi + 0.01);
+  f.betaLo = ringBound && epipoleW > 0 ? s.betaLo : std::max(0.0, s.betaLo - 0.01);
+  f.betaHi = ringBound && epipoleW <= 0 ? s.betaHi : std::min(kPi, s.betaHi + 0.01);
   if (!(f.betaHi > f.betaLo + 1e-6)) f.betaHi = std::min(kPi, f.betaLo + 1e-3);
+}
+
+// gammaAll from the screen samples' largest gamma; gammaMap, the span of the rectified rows.
+void fitGammaRanges(const ViewInput& in, double gammaAll, double sceneScale, EpipolarFrame& f) {
   if (in.directional) {
     f.gammaAll = std::max(gammaAll * 1.02, 1e-6 * sceneScale);
     double perpMax = 0.0;  // beyond the farthest scene corner from the axis line no light ray is blocked
@@ -185,6 +211,19 @@ EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
     f.gammaAll = std::clamp(gammaAll * 1.02 + 1e-4, 1e-4, kPi);
     f.gammaMap = f.gammaAll;
   }
+}
+}  // namespace
+
+EpipolarFrame computeEpipolarFrame(const ViewInput& in) {
+  EpipolarFrame f;
+  f.directional = in.directional;
+  glm::dvec3 extent = in.boundsHi - in.boundsLo;
+  double sceneScale = std::max({1.0, glm::length(extent), glm::length(in.eye)});
+  fitAxisAndBasis(in, sceneScale, f);
+  double epipoleW = locateEpipole(in, f);
+  ScreenSpan span = sampleScreen(in, f);
+  fitAlphaAndBeta(in, span, epipoleW, f);
+  fitGammaRanges(in, span.gammaAll, sceneScale, f);
   return f;
 }
 
