@@ -240,8 +240,18 @@ std::string SlicemapMethod::unsupportedReason(const Scene& scene, const ParamVal
 }
 
 void SlicemapMethod::setup(const SetupContext& context, const ParamValues& params) {
-  const Scene& scene = context.scene;
   geometry_ = &context.geometry;
+  readParamsAndClasses(context.scene, params);
+  checkLimits(context.limits);
+  countVoxelizedTriangles(context.scene);
+  uploadClassUniforms(context.scene);
+  createSlicemaps();
+  buildPrograms(context.effects, params);
+}
+
+// The knobs, then the colour classes the scene's occluders fall into (throws when it has too many
+// transmittances).
+void SlicemapMethod::readParamsAndClasses(const Scene& scene, const ParamValues& params) {
   resolution_ = params.getInt("res");
   targets_ = params.getInt("targets");
   local_ = params.getString("slicing") == "local";
@@ -260,28 +270,37 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
   classes_ = slicemap::colorClasses(scene, opaqueInSlices_, problem, alpha_);
   if (!problem.empty()) throw std::runtime_error(problem);
   perTexelOpacity_ = std::any_of(classes_.begin(), classes_.end(), [](const slicemap::ColorClass& c) { return c.alphaBin >= 0; });
-  int classes = int(classes_.size());
-  packed_ = params.getBool("pack") && classes > 1;
-  if (resolution_ > context.limits.maxTextureSize)
+  packed_ = params.getBool("pack") && int(classes_.size()) > 1;
+}
+
+// Resolution, render targets and array layers within the GL implementation's limits.
+void SlicemapMethod::checkLimits(const gl::Limits& limits) const {
+  if (resolution_ > limits.maxTextureSize)
     throw std::runtime_error("res=" + std::to_string(resolution_) + " exceeds GL_MAX_TEXTURE_SIZE " +
-                             std::to_string(context.limits.maxTextureSize));
-  if (targets_ > context.limits.maxDrawBuffers || targets_ > context.limits.maxColorAttachments)
+                             std::to_string(limits.maxTextureSize));
+  if (targets_ > limits.maxDrawBuffers || targets_ > limits.maxColorAttachments)
     throw std::runtime_error("targets=" + std::to_string(targets_) + " exceeds GL_MAX_DRAW_BUFFERS " +
-                             std::to_string(context.limits.maxDrawBuffers));
+                             std::to_string(limits.maxDrawBuffers));
   GLint maxLayers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-  int layers = faces_ * slots() * targets_;
-  if (layers > maxLayers)
-    throw std::runtime_error(std::to_string(layers) + " slicemap layers exceed GL_MAX_ARRAY_TEXTURE_LAYERS " +
+  if (layers() > maxLayers)
+    throw std::runtime_error(std::to_string(layers()) + " slicemap layers exceed GL_MAX_ARRAY_TEXTURE_LAYERS " +
                              std::to_string(maxLayers));
+}
 
+// Triangles voxelized per frame, over all faces (the stats' count).
+void SlicemapMethod::countVoxelizedTriangles(const Scene& scene) {
   triangles_ = 0.0;
   for (const Mesh& mesh : scene.meshes) {
     if (mesh.opacity <= 0.0f) continue;
     bool member = mesh.isOpaque() ? opaqueInSlices_ : true;
     if (member) triangles_ += double(mesh.triangleCount()) * faces_;
   }
+}
 
+// SlicemapBlock: each class's slicing range, transmittance and alpha bin.
+void SlicemapMethod::uploadClassUniforms(const Scene& scene) {
+  int classes = int(classes_.size());
   SlicemapUniforms uniforms{};
   float slices = float(32 * wordsPerClass());  // per class
   uniforms.params = glm::vec4(float(resolution_), float(faces_), slices, float(classes));
@@ -295,52 +314,59 @@ void SlicemapMethod::setup(const SetupContext& context, const ParamValues& param
     uniforms.classTint[c] = glm::vec4(classes_[size_t(c)].tint, 0.0f);
   }
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms);
+}
 
+// The slicemap textures (bits; prefix counts; near/far maps) and a framebuffer per (face, class).
+void SlicemapMethod::createSlicemaps() {
+  int classes = int(classes_.size());
   sliceFbos_.clear();
   nearFarFbos_.clear();
   slices_.reset();
   nearFar_.reset();
   prefixCounts_.reset();
-  if (classes > 0) {
-    // Point lights: cube-map arrays, so that a lookup is one fetch by direction (the sampler picks
-    // the face); spot and directional lights: 2D arrays.
-    GLenum target = faces_ == 6 ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY;
-    auto create = [&](GLenum format, int count) {
-      GLuint id = 0;
-      glCreateTextures(target, 1, &id);
-      glTextureStorage3D(id, 1, format, resolution_, resolution_, count);
-      gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
-      return gl::Texture(id);
-    };
-    slices_ = create(GL_RGBA32UI, layers);
-    if (prefix_) prefixCounts_ = create(GL_RGBA16UI, layers);
-    if (local_) nearFar_ = create(GL_RG32F, faces_ * classes);
+  if (classes == 0) return;
+  // Point lights: cube-map arrays, so that a lookup is one fetch by direction (the sampler picks
+  // the face); spot and directional lights: 2D arrays.
+  GLenum target = faces_ == 6 ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY;
+  auto create = [&](GLenum format, int count) {
     GLuint id = 0;
-    std::vector<GLenum> drawBuffers;
-    for (int k = 0; k < targets_; ++k) drawBuffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + k));
-    for (int f = 0; f < faces_; ++f)
-      for (int c = 0; c < classes; ++c) {
-        if (c < slots()) {
-          glCreateFramebuffers(1, &id);
-          sliceFbos_.emplace_back(id);
-          for (int k = 0; k < targets_; ++k)
-            glNamedFramebufferTextureLayer(id, drawBuffers[size_t(k)], slices_.id(), 0, layer(f, c, k));
-          glNamedFramebufferDrawBuffers(id, targets_, drawBuffers.data());
-          gl::checkFramebuffer(id, "slicemap");
-        }
-        if (local_) {
-          glCreateFramebuffers(1, &id);
-          nearFarFbos_.emplace_back(id);
-          glNamedFramebufferTextureLayer(id, GL_COLOR_ATTACHMENT0, nearFar_.id(), 0, c * faces_ + f);
-          gl::checkFramebuffer(id, "slicemap near/far map");
-        }
+    glCreateTextures(target, 1, &id);
+    glTextureStorage3D(id, 1, format, resolution_, resolution_, count);
+    gl::setFilter(id, GL_NEAREST, GL_NEAREST);  // integer textures are incomplete otherwise
+    return gl::Texture(id);
+  };
+  slices_ = create(GL_RGBA32UI, layers());
+  if (prefix_) prefixCounts_ = create(GL_RGBA16UI, layers());
+  if (local_) nearFar_ = create(GL_RG32F, faces_ * classes);
+  GLuint id = 0;
+  std::vector<GLenum> drawBuffers;
+  for (int k = 0; k < targets_; ++k) drawBuffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + k));
+  for (int f = 0; f < faces_; ++f)
+    for (int c = 0; c < classes; ++c) {
+      if (c < slots()) {
+        glCreateFramebuffers(1, &id);
+        sliceFbos_.emplace_back(id);
+        for (int k = 0; k < targets_; ++k)
+          glNamedFramebufferTextureLayer(id, drawBuffers[size_t(k)], slices_.id(), 0, layer(f, c, k));
+        glNamedFramebufferDrawBuffers(id, targets_, drawBuffers.data());
+        gl::checkFramebuffer(id, "slicemap");
       }
-  }
+      if (local_) {
+        glCreateFramebuffers(1, &id);
+        nearFarFbos_.emplace_back(id);
+        glNamedFramebufferTextureLayer(id, GL_COLOR_ATTACHMENT0, nearFar_.id(), 0, c * faces_ + f);
+        gl::checkFramebuffer(id, "slicemap near/far map");
+      }
+    }
+}
 
+// The passes' programs, specialised by defines to the classes and knobs.
+void SlicemapMethod::buildPrograms(const Effects& effects, const ParamValues& params) {
+  int classes = int(classes_.size());
   bool grey = std::all_of(classes_.begin(), classes_.end(), [](const slicemap::ColorClass& c) {
     return c.transmittance.r == c.transmittance.g && c.transmittance.g == c.transmittance.b;
   });
-  std::string defines = sceneDefines(context.effects) + "#define SLICEMAP_CLASSES " + std::to_string(classes) +
+  std::string defines = sceneDefines(effects) + "#define SLICEMAP_CLASSES " + std::to_string(classes) +
                         "\n#define SLICEMAP_TARGETS " + std::to_string(targets_) + "\n#define SLICEMAP_LOCAL " +
                         (local_ ? "1" : "0") + "\n#define SLICEMAP_PREFIX " + (prefix_ ? "1" : "0") +
                         "\n#define SLICEMAP_OPAQUE_IN_SLICES " + (opaqueInSlices_ ? "1" : "0") +

@@ -89,11 +89,19 @@ class SlicemapMethod : public Method {
   int targets() const { return targets_; }
 
  private:
+  // The steps of setup(), in order.
+  void readParamsAndClasses(const Scene& scene, const ParamValues& params);
+  void checkLimits(const gl::Limits& limits) const;
+  void countVoxelizedTriangles(const Scene& scene);
+  void uploadClassUniforms(const Scene& scene);
+  void createSlicemaps();
+  void buildPrograms(const Effects& effects, const ParamValues& params);
   void voxelize(const Frame& frame, PassTimer& timer);
   // Layer (2D array) or layer-face (cube-map array, point lights) of one target of a class's
   // slicemap; packed classes share one set of targets.
   int layer(int face, int cls, int target) const { return ((packed_ ? 0 : cls) * targets_ + target) * faces_ + face; }
   int slots() const { return packed_ ? 1 : int(classes_.size()); }
+  int layers() const { return faces_ * slots() * targets_; }  // of the slicemap arrays
   int wordsPerClass() const { return packed_ ? 4 * targets_ / std::max(int(classes_.size()), 1) : 4 * targets_; }
 
   const SceneGpu* geometry_ = nullptr;
