@@ -284,20 +284,91 @@ void Runner::renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameInde
   timer.endFrame();
 }
 
+void Runner::noteApproximations(const Method& method, const ParamValues& params, MethodRun& result) const {
+  result.approximations = method.approximations();
+  if (params.getInt("vpls") > 0)
+    result.approximations.push_back("area light as " + std::to_string(params.getInt("vpls")) +
+                                    " virtual point lights (per-VPL wrapper)");
+  std::string alphaTested = alphaTestApproximation(scene_, alphaTestThreshold(method, effects_, params));
+  if (!alphaTested.empty()) result.approximations.push_back(alphaTested);
+}
+
+int Runner::warmUp(Method& method, PassTimer& timer, const std::function<void(int, int)>& progress) {
+  int total = options_.warmup + options_.frames;
+  int measured = options_.frames;
+  for (int f = 0; f < options_.warmup; ++f) {
+    // --min-time: the last warm-up frame's time says how many frames fill it.
+    bool sizing = options_.minTimeMs > 0.0 && f == options_.warmup - 1;
+    if (sizing) glFinish();
+    auto start = std::chrono::steady_clock::now();
+    renderFrame(method, timer, uint32_t(f), false);
+    if (sizing) {
+      glFinish();
+      double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      measured = std::clamp(int(std::ceil(options_.minTimeMs / std::max(ms, 1e-3))), 1, options_.frames);
+    }
+    gl::checkErrors("frame");
+    if (progress) progress(f + 1, total);
+  }
+  return measured;
+}
+
+void Runner::measureFrames(Method& method, PassTimer& timer, int measured, MethodRun& result,
+                           const std::function<void(int, int)>& progress) {
+  int total = options_.warmup + options_.frames;
+  // The measured frames are the last ones of a full run, so the images do not depend on `measured`.
+  for (int f = total - measured; f < total; ++f) {
+    renderFrame(method, timer, uint32_t(f), true);
+    gl::checkErrors("frame");
+    if (options_.sequence)
+      result.sequence.push_back({uint32_t(f), scene_.animation.timeOf(uint32_t(f)), {}, shared().readInscatter()});
+    if (progress) progress(f + 1, total);
+  }
+  timer.finish();
+  // The recorded frames are the measured ones, in order.
+  for (size_t k = 0; k < result.sequence.size() && k < timer.frames().size(); ++k)
+    result.sequence[k].passMs = timer.frames()[k];
+}
+
+// The timed passes into the row, in the order they ran; a pass the method did not declare fails it.
+static void collectPasses(const Method& method, const PassTimer& timer, MethodRun& result) {
+  const std::vector<std::string> declared = method.passes();
+  for (const auto& name : timer.passOrder()) {
+    if (name != PassTimer::kFrame && !isSharedPass(name) && !isRunnerPass(name) &&
+        std::find(declared.begin(), declared.end(), name) == declared.end())
+      throw std::runtime_error("pass '" + name + "' is not among the passes " + method.name() +
+                               " declares (Method::passes)");
+    TimingStats s = summarise(timer.samples().at(name));
+    if (name == PassTimer::kFrame) {
+      result.frame = s;
+    } else {
+      result.passStats[name] = s;
+      result.passes.push_back(name);
+    }
+  }
+}
+
+// A GL error or a non-finite pixel in any recorded image fails the row.
+static void checkImages(MethodRun& result) {
+  if (gl::debugErrorCount() > 0) {
+    result.status = RunStatus::Failure;
+    result.reason = "GL error: " + gl::lastDebugError();
+  }
+  result.nonFinitePixels = countNonFinite(result.inscatter) + countNonFinite(result.final);
+  // The earlier frames of a sequence too (its last frame is the one read back).
+  for (size_t k = 0; k + 1 < result.sequence.size(); ++k) result.nonFinitePixels += countNonFinite(result.sequence[k].inscatter);
+  if (result.status == RunStatus::Success && result.nonFinitePixels > 0) {
+    result.status = RunStatus::Failure;
+    result.reason = std::to_string(result.nonFinitePixels) + " non-finite pixel values";
+  }
+}
+
 MethodRun Runner::run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress) {
   MethodRun result;
   result.method = method.name();
   result.params = params.canonical();
   result.shadowMapSize = params.getInt("sm");
-  auto approximations = [&] {
-    result.approximations = method.approximations();
-    if (params.getInt("vpls") > 0)
-      result.approximations.push_back("area light as " + std::to_string(params.getInt("vpls")) +
-                                      " virtual point lights (per-VPL wrapper)");
-    std::string alphaTested = alphaTestApproximation(scene_, alphaTestThreshold(method, effects_, params));
-    if (!alphaTested.empty()) result.approximations.push_back(alphaTested);
-  };
-  approximations();
+  noteApproximations(method, params, result);
   std::string unsupported = unsupportedReason(method, params);
   if (!unsupported.empty()) {
     result.status = RunStatus::Unsupported;
@@ -307,49 +378,11 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   gl::resetDebugErrorCount();
   try {
     result.setupMs = setUp(method, params);
-    approximations();  // setup may know more (the scene's and parameters' departures)
+    noteApproximations(method, params, result);  // setup may know more (the scene's and parameters' departures)
     PassTimer timer(options_.timer);
-    int total = options_.warmup + options_.frames;
-    int measured = options_.frames;
-    for (int f = 0; f < options_.warmup; ++f) {
-      bool sizing = options_.minTimeMs > 0.0 && f == options_.warmup - 1;
-      if (sizing) glFinish();
-      auto start = std::chrono::steady_clock::now();
-      renderFrame(method, timer, uint32_t(f), false);
-      if (sizing) {
-        glFinish();
-        double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        measured = std::clamp(int(std::ceil(options_.minTimeMs / std::max(ms, 1e-3))), 1, options_.frames);
-      }
-      gl::checkErrors("frame");
-      if (progress) progress(f + 1, total);
-    }
-    // The measured frames are the last ones of a full run, so the images do not depend on `measured`.
-    for (int f = total - measured; f < total; ++f) {
-      renderFrame(method, timer, uint32_t(f), true);
-      gl::checkErrors("frame");
-      if (options_.sequence)
-        result.sequence.push_back({uint32_t(f), scene_.animation.timeOf(uint32_t(f)), {}, shared().readInscatter()});
-      if (progress) progress(f + 1, total);
-    }
-    timer.finish();
-    // The recorded frames are the measured ones, in order.
-    for (size_t k = 0; k < result.sequence.size() && k < timer.frames().size(); ++k)
-      result.sequence[k].passMs = timer.frames()[k];
-    const std::vector<std::string> declared = method.passes();
-    for (const auto& name : timer.passOrder()) {
-      if (name != PassTimer::kFrame && !isSharedPass(name) && !isRunnerPass(name) &&
-          std::find(declared.begin(), declared.end(), name) == declared.end())
-        throw std::runtime_error("pass '" + name + "' is not among the passes " + method.name() +
-                                 " declares (Method::passes)");
-      TimingStats s = summarise(timer.samples().at(name));
-      if (name == PassTimer::kFrame) {
-        result.frame = s;
-      } else {
-        result.passStats[name] = s;
-        result.passes.push_back(name);
-      }
-    }
+    int measured = warmUp(method, timer, progress);
+    measureFrames(method, timer, measured, result, progress);
+    collectPasses(method, timer, result);
     result.stats = method.stats(result.passStats);
     result.inscatter = shared().readInscatter();
     result.final = shared().readFinal();
@@ -357,21 +390,11 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
     // The method's work counters, from one more frame that is neither timed nor read back.
     if (options_.workCounters && method.beginWorkCount(options_.width, options_.height)) {
       PassTimer untimed(TimerStrategy::WallClock);
-      renderFrame(method, untimed, uint32_t(total - 1), false);
+      renderFrame(method, untimed, uint32_t(options_.warmup + options_.frames - 1), false);
       gl::checkErrors("work counters");
       for (const auto& [key, value] : method.endWorkCount()) result.stats[key] = value;
     }
-    if (gl::debugErrorCount() > 0) {
-      result.status = RunStatus::Failure;
-      result.reason = "GL error: " + gl::lastDebugError();
-    }
-    result.nonFinitePixels = countNonFinite(result.inscatter) + countNonFinite(result.final);
-    // The earlier frames of a sequence too (its last frame is the one read back above).
-    for (size_t k = 0; k + 1 < result.sequence.size(); ++k) result.nonFinitePixels += countNonFinite(result.sequence[k].inscatter);
-    if (result.status == RunStatus::Success && result.nonFinitePixels > 0) {
-      result.status = RunStatus::Failure;
-      result.reason = std::to_string(result.nonFinitePixels) + " non-finite pixel values";
-    }
+    checkImages(result);
   } catch (const std::exception& e) {
     result.status = RunStatus::Failure;
     result.reason = e.what();

@@ -132,6 +132,12 @@ class Runner {
   struct VplWrapper;
   std::unique_ptr<VplWrapper> vpl_;  // set when the method set up last runs per VPL
   void renderFrameVpl(Method& method, PassTimer& timer, uint32_t frameIndex, bool record, const FrameMotion& motion);
+  // The steps of run(): the row's approximations, the warm-up frames (returns how many frames to
+  // measure), the measured frames (their per-frame pass times into a sequence).
+  void noteApproximations(const Method& method, const ParamValues& params, MethodRun& result) const;
+  int warmUp(Method& method, PassTimer& timer, const std::function<void(int, int)>& progress);
+  void measureFrames(Method& method, PassTimer& timer, int measured, MethodRun& result,
+                     const std::function<void(int, int)>& progress);
 };
 
 // The pass a frame of a moving scene runs when a method set up for one light position is set up
