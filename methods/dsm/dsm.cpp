@@ -251,6 +251,14 @@ std::string DsmMethod::unsupportedReason(const Scene& scene, const ParamValues& 
 }
 
 void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
+  readParams(context, params);
+  fitViewsAndUploadUniforms(context.scene, params);
+  createMapAndFramebuffers(params.getString("filter") == "hardware");
+  buildPrograms(context.scene, context.effects, params);
+}
+
+// The knobs kept as members (throws beyond GL_MAX_TEXTURE_SIZE).
+void DsmMethod::readParams(const SetupContext& context, const ParamValues& params) {
   resolution_ = params.getInt("res");
   if (resolution_ > context.limits.maxTextureSize)
     throw std::runtime_error("res=" + std::to_string(resolution_) + " exceeds GL_MAX_TEXTURE_SIZE " +
@@ -267,18 +275,17 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
   surfaceShadows_ = params.getBool("surface");
   // Without meshes nothing but the volumes casts shadows: the map replaces the shared shadow map.
   needsSharedShadowMap_ = !context.scene.meshes.empty();
-  std::string interp = params.getString("interp");
-  bool hardwareFilter = params.getString("filter") == "hardware";
-  int interpCode = interp == "smoothstep" ? 1 : interp == "bucket" ? 2 : 0;
-  bool exponential = params.getString("segments") == "exponential";
-  bool relative = params.getString("thresholds") == "relative";
+}
 
+// The light views around the volumes, the generation's sample count, and DsmBlock.
+void DsmMethod::fitViewsAndUploadUniforms(const Scene& scene, const ParamValues& params) {
+  bool relative = params.getString("thresholds") == "relative";
   glm::vec3 lo, hi;
-  unionBox(context.scene, lo, hi);
-  views_ = dsm::fitLightViews(context.scene.light, lo, hi, resolution_);
+  unionBox(scene, lo, hi);
+  views_ = dsm::fitLightViews(scene.light, lo, hi, resolution_);
   // Relative thresholds march every light ray twice (the final optical depth first); each colour
   // channel has its own marches.
-  generationSamples_ = generationSamples(context.scene, views_, resolution_, genStep_, genSteps_) * (relative ? 2.0 : 1.0) * channels_;
+  generationSamples_ = generationSamples(scene, views_, resolution_, genStep_, genSteps_) * (relative ? 2.0 : 1.0) * channels_;
   DsmUniforms uniforms{};
   for (int f = 0; f < 6; ++f) {
     uniforms.faceViewProj[f] = views_.viewProj[size_t(f)];
@@ -290,10 +297,12 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
     uniforms.thresholds[k / 4][k % 4] = t[size_t(k)];
     uniforms.knotTaus[k / 4][k % 4] = -std::log(std::max(1.0f - t[size_t(k)], 1e-30f));
   }
-  const glm::vec3 ratio = dsm::channelRatios(context.scene);
-  uniforms.channelRatio = glm::vec4(ratio, 0.0f);
+  uniforms.channelRatio = glm::vec4(dsm::channelRatios(scene), 0.0f);
   ubo_ = gl::createBuffer(sizeof uniforms, &uniforms, 0);
+}
 
+// The map (one layer per face, colour channel and group of four knots) and its framebuffers.
+void DsmMethod::createMapAndFramebuffers(bool hardwareFilter) {
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
   map_ = gl::Texture(id);
@@ -314,10 +323,19 @@ void DsmMethod::setup(const SetupContext& context, const ParamValues& params) {
       glNamedFramebufferDrawBuffers(id, layers_, targets.data());
       gl::checkFramebuffer(id, "deep shadow map");
     }
+}
 
+// The passes' programs, specialised by defines to the knots, filter, segments and channels.
+void DsmMethod::buildPrograms(const Scene& scene, const Effects& effects, const ParamValues& params) {
+  std::string interp = params.getString("interp");
+  bool hardwareFilter = params.getString("filter") == "hardware";
+  int interpCode = interp == "smoothstep" ? 1 : interp == "bucket" ? 2 : 0;
+  bool exponential = params.getString("segments") == "exponential";
+  bool relative = params.getString("thresholds") == "relative";
   // One map for grey volumes needs no per-channel power (llvmpipe would pay a log and three exps a lookup).
+  const glm::vec3 ratio = dsm::channelRatios(scene);
   const bool grey = channels_ == 1 && ratio.x == 1.0f && ratio.y == 1.0f && ratio.z == 1.0f;
-  std::string defines = sceneDefines(context.effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
+  std::string defines = sceneDefines(effects) + "#define DSM_KNOTS " + std::to_string(knots_) +
                         "\n#define DSM_LAYERS " + std::to_string(layers_) + "\n#define DSM_FILTER " +
                         (hardwareFilter ? "1" : "0") + "\n#define DSM_SEGMENTS " + (exponential ? "1" : "0") +
                         "\n#define DSM_RELATIVE " + (relative ? "1" : "0") + "\n#define DSM_FACES " + std::to_string(views_.faces) +

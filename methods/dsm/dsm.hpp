@@ -61,6 +61,12 @@ class DsmMethod : public Method {
   }
 
  private:
+  // The steps of setup(), in order.
+  void readParams(const SetupContext& context, const ParamValues& params);
+  void fitViewsAndUploadUniforms(const Scene& scene, const ParamValues& params);
+  void createMapAndFramebuffers(bool hardwareFilter);
+  void buildPrograms(const Scene& scene, const Effects& effects, const ParamValues& params);
+
   int resolution_ = 512, genSteps_ = 256, viewSteps_ = 128, hazeSteps_ = 64, knots_ = 3, layers_ = 1, channels_ = 1;
   float genStep_ = 0.5f;
   double generationSamples_ = 0.0;  // per frame, counted on the CPU in setup
