@@ -284,6 +284,190 @@ size_t embedImages(json& data, const std::string& pageDir, size_t budgetBytes) {
 
 std::string defaultReportPath(const std::string& dir) { return (fs::path(dir) / "report.html").string(); }
 
+namespace {
+
+// One results folder's tables.
+struct FolderTables {
+  std::string label;  // relative to the report's folder
+  Csv runs, passes, frames;
+  json meta;
+  bool hasPasses = false, hasFrames = false;
+};
+
+// Gathers the rows of every results folder into their scenes, with each row's passes, frames and
+// images beside it.
+class ReportCollector {
+ public:
+  ReportCollector(const std::string& dir, const std::string& pageDir) : dir_(dir), pageDir_(pageDir) {}
+
+  void addFolder(size_t s, const fs::path& folder) {
+    FolderTables t = readFolder(folder);
+    totalRows_ += t.runs.rows.size();
+    placed_ = placeRows(s, folder, t);
+    realignRows(t.runs);
+    if (t.hasPasses) attachPasses(t);
+    if (t.hasFrames) attachFrames(t);
+  }
+
+  json result() {
+    if (totalRows_ == 0) throw UsageError("report: " + dir_ + ": runs.csv has no rows");
+    json scenesJson = json::array();
+    for (SceneData& scene : scenes_) {
+      json shared = json::array();
+      for (const auto& p : scene.passNames) shared.push_back(isSharedPass(p) || p == "Frame");
+      scenesJson.push_back({{"name", scene.name},
+                            {"columns", scene.columns},
+                            {"rows", std::move(scene.rows)},
+                            {"source", std::move(scene.sourceOfRow)},
+                            {"sources", scene.sources},
+                            {"images", std::move(scene.images)},
+                            {"pass_names", scene.passNames},
+                            {"pass_shared", shared},
+                            {"passes", std::move(scene.passes)},
+                            {"frame_columns", {"frame", "time_s", "frame_ms", "ls_rmse", "ls_relmse"}},
+                            {"frames", scene.anyFrames ? std::move(scene.frames) : json(nullptr)},
+                            {"videos", std::move(scene.videos)}});
+    }
+    std::string title = absoluteNormal(dir_).filename().string();
+    return {{"title", title.empty() ? dir_ : title},
+            {"dir", dir_},
+            {"generated", isoNow()},
+            {"generator_revision", buildGitSha()},
+            {"sources", std::move(sources_)},
+            {"scenes", std::move(scenesJson)},
+            {"warnings", std::move(warnings_)}};
+  }
+
+ private:
+  FolderTables readFolder(const fs::path& folder) {
+    FolderTables t;
+    t.runs = readCsv(folder / "runs.csv", {"scene", "method", "params", "status"});
+    t.meta = readMeta(folder);
+    t.hasPasses = isFile(folder / "passes.csv");
+    t.hasFrames = isFile(folder / "frames.csv");
+    if (t.hasPasses) t.passes = readCsv(folder / "passes.csv", {"scene", "method", "params", "pass", "median_ms"});
+    if (t.hasFrames) t.frames = readCsv(folder / "frames.csv", {"scene", "method", "params", "frame", "time_s"});
+    t.label = absoluteNormal(folder).lexically_relative(absoluteNormal(dir_)).generic_string();
+    if (t.label.empty()) t.label = ".";
+    sources_.push_back({{"folder", t.label},
+                        {"href", relativeUrl(folder, pageDir_)},
+                        {"meta", t.meta},
+                        {"rows", t.runs.rows.size()},
+                        {"passes_csv", t.hasPasses},
+                        {"frames_csv", t.hasFrames}});
+    if (t.meta.is_null()) warnings_.push_back(t.label + ": no meta.json (no provenance)");
+    return t;
+  }
+
+  // Each row of runs.csv into its scene; returns where each went: (scene, row within it).
+  std::vector<std::pair<size_t, size_t>> placeRows(size_t s, const fs::path& folder, const FolderTables& t) {
+    const Csv& runs = t.runs;
+    const int sceneCol = runs.column("scene"), methodCol = runs.column("method"), paramsCol = runs.column("params");
+    const int statusCol = runs.column("status"), shardCol = runs.column("shard");
+    std::vector<std::pair<size_t, size_t>> placed;
+    for (const auto& row : runs.rows) {
+      const std::string& name = row[size_t(sceneCol)];
+      auto [it, fresh] = sceneIndex_.emplace(name, scenes_.size());
+      if (fresh) {
+        scenes_.emplace_back();
+        scenes_.back().name = name;
+      }
+      SceneData& scene = scenes_[it->second];
+      if (std::find(scene.sources.begin(), scene.sources.end(), int(s)) == scene.sources.end()) {
+        scene.sources.push_back(int(s));
+        for (const auto& c : runs.header)
+          if (std::find(scene.columns.begin(), scene.columns.end(), c) == scene.columns.end()) scene.columns.push_back(c);
+        addVideos(scene, folder);
+      }
+      placed.emplace_back(it->second, scene.rows.size());
+      scene.rows.push_back(row);  // realigned to the scene's columns by realignRows
+      scene.sourceOfRow.push_back(s);
+      std::string shard = shardCol >= 0 ? row[size_t(shardCol)] : "";
+      scene.images.push_back(row[size_t(statusCol)] == "Success"
+                                 ? imagePaths(imageRoots(folder, t.meta, shard), name, row[size_t(methodCol)],
+                                              row[size_t(paramsCol)], pageDir_)
+                                 : json(nullptr));
+      scene.passes.push_back(json::array());
+      scene.frames.push_back(json::array());
+    }
+    return placed;
+  }
+
+  // scripts/video writes video-SCENE.mp4 beside the scene's folder or into it.
+  void addVideos(SceneData& scene, const fs::path& folder) {
+    for (const fs::path& v : {folder / ("video-" + sanitize(scene.name) + ".mp4"),
+                              folder.parent_path() / ("video-" + sanitize(scene.name) + ".mp4")}) {
+      std::string url = relativeUrl(v, pageDir_);
+      if (isFile(v) && std::find(scene.videos.begin(), scene.videos.end(), url) == scene.videos.end())
+        scene.videos.push_back(url);
+    }
+  }
+
+  // This folder's rows in the scene's column order (merged tables add columns).
+  void realignRows(const Csv& runs) {
+    for (size_t r = 0; r < runs.rows.size(); ++r) {
+      SceneData& scene = scenes_[placed_[r].first];
+      json aligned = json::array();
+      for (const auto& c : scene.columns) {
+        int k = runs.column(c);
+        aligned.push_back(k < 0 ? "" : runs.rows[r][size_t(k)]);
+      }
+      scene.rows[placed_[r].second] = std::move(aligned);
+    }
+  }
+
+  // Calls add(runs row, table row) for each row of `table` that names a row of runs.csv.
+  void matchRows(const FolderTables& t, const Csv& table, const char* file, const std::function<void(size_t, size_t)>& add) {
+    std::vector<int> runCols;
+    std::vector<int> cols = keyColumns(t.runs, table, runCols);
+    std::map<std::string, size_t> rowByKey;
+    for (size_t r = 0; r < t.runs.rows.size(); ++r) rowByKey.emplace(rowKey(t.runs.rows[r], runCols), r);
+    size_t unmatched = 0;
+    for (size_t i = 0; i < table.rows.size(); ++i) {
+      auto it = rowByKey.find(rowKey(table.rows[i], cols));
+      if (it == rowByKey.end()) ++unmatched;
+      else add(it->second, i);
+    }
+    if (unmatched)
+      warnings_.push_back(t.label + "/" + file + ": " + std::to_string(unmatched) + " row(s) name no row of runs.csv");
+  }
+
+  void attachPasses(const FolderTables& t) {
+    const Csv& passes = t.passes;
+    const int pass = passes.column("pass"), median = passes.column("median_ms"), lo = passes.column("min_ms"),
+              hi = passes.column("max_ms");
+    matchRows(t, passes, "passes.csv", [&](size_t r, size_t i) {
+      SceneData& scene = scenes_[placed_[r].first];
+      const auto& p = passes.rows[i];
+      scene.passes[placed_[r].second].push_back({scene.passIndex(p[size_t(pass)]), p[size_t(median)],
+                                                 lo >= 0 ? p[size_t(lo)] : "", hi >= 0 ? p[size_t(hi)] : ""});
+    });
+  }
+
+  void attachFrames(const FolderTables& t) {
+    const Csv& frames = t.frames;
+    const int frame = frames.column("frame"), time = frames.column("time_s"), frameMs = frames.column("frame_ms"),
+              lsRmse = frames.column("ls_rmse"), lsRelmse = frames.column("ls_relmse");
+    auto field = [](const std::vector<std::string>& row, int k) { return k < 0 ? std::string() : row[size_t(k)]; };
+    matchRows(t, frames, "frames.csv", [&](size_t r, size_t i) {
+      SceneData& scene = scenes_[placed_[r].first];
+      const auto& f = frames.rows[i];
+      scene.anyFrames = true;
+      scene.frames[placed_[r].second].push_back(
+          {field(f, frame), field(f, time), field(f, frameMs), field(f, lsRmse), field(f, lsRelmse)});
+    });
+  }
+
+  std::string dir_, pageDir_;
+  json sources_ = json::array(), warnings_ = json::array();
+  std::vector<SceneData> scenes_;
+  std::map<std::string, size_t> sceneIndex_;
+  size_t totalRows_ = 0;
+  std::vector<std::pair<size_t, size_t>> placed_;  // of the folder being added
+};
+
+}  // namespace
+
 json collectReportData(const std::string& dir, const std::string& pageDir) {
   if (dir.empty()) throw UsageError("report: no results folder given");
   std::error_code ec;
@@ -292,140 +476,9 @@ json collectReportData(const std::string& dir, const std::string& pageDir) {
   std::vector<fs::path> folders;
   findResultFolders(dir, kSearchDepth, folders);
   if (folders.empty()) throw UsageError("report: " + dir + ": no runs.csv in this folder or its sub-folders");
-
-  json sources = json::array(), warnings = json::array();
-  std::vector<SceneData> scenes;
-  std::map<std::string, size_t> sceneIndex;
-  size_t totalRows = 0;
-  for (size_t s = 0; s < folders.size(); ++s) {
-    const fs::path& folder = folders[s];
-    Csv runs = readCsv(folder / "runs.csv", {"scene", "method", "params", "status"});
-    json meta = readMeta(folder);
-    bool hasPasses = isFile(folder / "passes.csv"), hasFrames = isFile(folder / "frames.csv");
-    Csv passes, frames;
-    if (hasPasses) passes = readCsv(folder / "passes.csv", {"scene", "method", "params", "pass", "median_ms"});
-    if (hasFrames) frames = readCsv(folder / "frames.csv", {"scene", "method", "params", "frame", "time_s"});
-    std::string label = absoluteNormal(folder).lexically_relative(absoluteNormal(dir)).generic_string();
-    if (label.empty()) label = ".";
-    sources.push_back({{"folder", label},
-                       {"href", relativeUrl(folder, pageDir)},
-                       {"meta", meta},
-                       {"rows", runs.rows.size()},
-                       {"passes_csv", hasPasses},
-                       {"frames_csv", hasFrames}});
-    if (meta.is_null()) warnings.push_back(label + ": no meta.json (no provenance)");
-    totalRows += runs.rows.size();
-
-    // Each row of runs.csv into its scene, remembering where it went.
-    const int sceneCol = runs.column("scene"), methodCol = runs.column("method"), paramsCol = runs.column("params");
-    const int statusCol = runs.column("status"), shardCol = runs.column("shard");
-    std::vector<std::pair<size_t, size_t>> placed;  // (scene, row within it) per runs.csv row
-    for (const auto& row : runs.rows) {
-      const std::string& name = row[size_t(sceneCol)];
-      auto [it, fresh] = sceneIndex.emplace(name, scenes.size());
-      if (fresh) {
-        scenes.emplace_back();
-        scenes.back().name = name;
-      }
-      SceneData& scene = scenes[it->second];
-      if (std::find(scene.sources.begin(), scene.sources.end(), int(s)) == scene.sources.end()) {
-        scene.sources.push_back(int(s));
-        for (const auto& c : runs.header)
-          if (std::find(scene.columns.begin(), scene.columns.end(), c) == scene.columns.end()) scene.columns.push_back(c);
-        // scripts/video writes video-SCENE.mp4 beside the scene's folder or into it.
-        for (const fs::path& v : {folder / ("video-" + sanitize(name) + ".mp4"),
-                                  folder.parent_path() / ("video-" + sanitize(name) + ".mp4")}) {
-          std::string url = relativeUrl(v, pageDir);
-          if (isFile(v) && std::find(scene.videos.begin(), scene.videos.end(), url) == scene.videos.end())
-            scene.videos.push_back(url);
-        }
-      }
-      placed.emplace_back(it->second, scene.rows.size());
-      scene.rows.push_back(row);  // realigned to the scene's columns below
-      scene.sourceOfRow.push_back(s);
-      std::string shard = shardCol >= 0 ? row[size_t(shardCol)] : "";
-      scene.images.push_back(row[size_t(statusCol)] == "Success"
-                                 ? imagePaths(imageRoots(folder, meta, shard), name, row[size_t(methodCol)],
-                                              row[size_t(paramsCol)], pageDir)
-                                 : json(nullptr));
-      scene.passes.push_back(json::array());
-      scene.frames.push_back(json::array());
-    }
-    // Realign this folder's rows to the scene's column list (merged tables add columns).
-    for (size_t r = 0; r < runs.rows.size(); ++r) {
-      SceneData& scene = scenes[placed[r].first];
-      json aligned = json::array();
-      for (const auto& c : scene.columns) {
-        int k = runs.column(c);
-        aligned.push_back(k < 0 ? "" : runs.rows[r][size_t(k)]);
-      }
-      scene.rows[placed[r].second] = std::move(aligned);
-    }
-    std::map<std::string, size_t> rowByKey;
-    auto matchRows = [&](const Csv& table, const char* file, const std::function<void(size_t, size_t)>& add) {
-      std::vector<int> runCols;
-      std::vector<int> cols = keyColumns(runs, table, runCols);
-      rowByKey.clear();
-      for (size_t r = 0; r < runs.rows.size(); ++r) rowByKey.emplace(rowKey(runs.rows[r], runCols), r);
-      size_t unmatched = 0;
-      for (size_t i = 0; i < table.rows.size(); ++i) {
-        auto it = rowByKey.find(rowKey(table.rows[i], cols));
-        if (it == rowByKey.end()) ++unmatched;
-        else add(it->second, i);
-      }
-      if (unmatched)
-        warnings.push_back(label + "/" + file + ": " + std::to_string(unmatched) + " row(s) name no row of runs.csv");
-    };
-    if (hasPasses) {
-      const int pass = passes.column("pass"), median = passes.column("median_ms"), lo = passes.column("min_ms"),
-                hi = passes.column("max_ms");
-      matchRows(passes, "passes.csv", [&](size_t r, size_t i) {
-        SceneData& scene = scenes[placed[r].first];
-        const auto& p = passes.rows[i];
-        scene.passes[placed[r].second].push_back({scene.passIndex(p[size_t(pass)]), p[size_t(median)],
-                                                  lo >= 0 ? p[size_t(lo)] : "", hi >= 0 ? p[size_t(hi)] : ""});
-      });
-    }
-    if (hasFrames) {
-      const int frame = frames.column("frame"), time = frames.column("time_s"), frameMs = frames.column("frame_ms"),
-                lsRmse = frames.column("ls_rmse"), lsRelmse = frames.column("ls_relmse");
-      auto field = [](const std::vector<std::string>& row, int k) { return k < 0 ? std::string() : row[size_t(k)]; };
-      matchRows(frames, "frames.csv", [&](size_t r, size_t i) {
-        SceneData& scene = scenes[placed[r].first];
-        const auto& f = frames.rows[i];
-        scene.anyFrames = true;
-        scene.frames[placed[r].second].push_back(
-            {field(f, frame), field(f, time), field(f, frameMs), field(f, lsRmse), field(f, lsRelmse)});
-      });
-    }
-  }
-  if (totalRows == 0) throw UsageError("report: " + dir + ": runs.csv has no rows");
-
-  json scenesJson = json::array();
-  for (SceneData& scene : scenes) {
-    json shared = json::array();
-    for (const auto& p : scene.passNames) shared.push_back(isSharedPass(p) || p == "Frame");
-    scenesJson.push_back({{"name", scene.name},
-                          {"columns", scene.columns},
-                          {"rows", std::move(scene.rows)},
-                          {"source", std::move(scene.sourceOfRow)},
-                          {"sources", scene.sources},
-                          {"images", std::move(scene.images)},
-                          {"pass_names", scene.passNames},
-                          {"pass_shared", shared},
-                          {"passes", std::move(scene.passes)},
-                          {"frame_columns", {"frame", "time_s", "frame_ms", "ls_rmse", "ls_relmse"}},
-                          {"frames", scene.anyFrames ? std::move(scene.frames) : json(nullptr)},
-                          {"videos", std::move(scene.videos)}});
-  }
-  std::string title = absoluteNormal(dir).filename().string();
-  return {{"title", title.empty() ? dir : title},
-          {"dir", dir},
-          {"generated", isoNow()},
-          {"generator_revision", buildGitSha()},
-          {"sources", std::move(sources)},
-          {"scenes", std::move(scenesJson)},
-          {"warnings", std::move(warnings)}};
+  ReportCollector collector(dir, pageDir);
+  for (size_t s = 0; s < folders.size(); ++s) collector.addFolder(s, folders[s]);
+  return collector.result();
 }
 
 std::string renderReportPage(const json& data) {
