@@ -58,13 +58,6 @@ std::string cpuModel() {
   return "unknown";
 }
 
-std::string isoDateUtc() {
-  std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
 std::string sanitize(const std::string& s) {
   std::string out;
   for (char c : s) out += (std::isalnum(uint8_t(c)) || c == '-' || c == '.') ? c : '_';

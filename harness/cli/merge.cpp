@@ -58,13 +58,6 @@ struct Input {
   std::string host;
 };
 
-std::string isoNow() {
-  std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
 std::string metaString(const json& meta, const std::string& key) {
   auto it = meta.find(key);
   if (it == meta.end() || it->is_null()) return "";
@@ -298,7 +291,7 @@ int mergeChecked(const MergeRequest& req, const MethodRegistry& registry) {
   for (const auto& row : passRows) passesText += CsvTable::format(row);
   bool complete = missing.empty() && failedShards == 0;
   json meta = {{"command_line", req.commandLine},
-               {"date", isoNow()},
+               {"date", isoDateUtc()},
                {"status", complete ? "complete" : "incomplete"},
                {"sweeps", planFiles},
                {"shards", shardsMeta},

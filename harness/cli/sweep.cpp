@@ -54,13 +54,6 @@ std::string hostName() {
   return buf;
 }
 
-std::string isoNow() {
-  std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
 // The shadow-map sizes a method entry runs at (each rung of a ladder, or the one spec).
 std::vector<std::string> entrySpecs(const std::string& entry, bool ladder, const MethodRegistry& registry) {
   if (!ladder) return {entry};
@@ -437,7 +430,7 @@ int sweepRunCommand(const std::string& file, const SweepOptions& options, const 
     json state = {{"id", s.id},       {"index", s.index},     {"definition", s.definition},
                   {"scene", s.scene}, {"size", s.size},       {"seed", s.seed},
                   {"method", s.method}, {"ladder", s.ladder}, {"host", hostName()},
-                  {"started", isoNow()}, {"status", "running"}};
+                  {"started", isoDateUtc()}, {"status", "running"}};
     if (const char* job = std::getenv("SLURM_JOB_ID")) state["slurm_job_id"] = job;
     if (const char* task = std::getenv("SLURM_ARRAY_TASK_ID")) state["slurm_array_task_id"] = task;
     writeShardState(dir, state);
@@ -451,7 +444,7 @@ int sweepRunCommand(const std::string& file, const SweepOptions& options, const 
       }
     }
     state["exit_code"] = rc;
-    state["ended"] = isoNow();
+    state["ended"] = isoDateUtc();
     if ((rc == 0 || rc == 3) && metaFinished) {
       state["status"] = "finished";
       if (rc == 3) state["reason"] = "some rows are failures (see runs.csv)";

@@ -1,5 +1,6 @@
 #include "harness/io/results.hpp"
 
+#include <ctime>
 #include <unistd.h>
 
 #include <algorithm>
@@ -205,6 +206,13 @@ void CsvTable::save(const std::string& path) const {
   std::string text = format(header_);
   for (const auto& r : rows_) text += format(r);
   writeFileAtomic(path, text);
+}
+
+std::string isoDateUtc() {
+  std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
 }
 
 }  // namespace vs

@@ -63,5 +63,7 @@ constexpr size_t kFramesKeyColumns = 4;  // scene, method, params, frame
 
 // Number formatting for result files: up to 6 significant digits, "inf"/"nan" spelled out.
 std::string num(double v);
+// The current UTC time as ISO 8601 (2026-12-07T17:20:00Z), for meta.json and sweep state.
+std::string isoDateUtc();
 
 }  // namespace vs

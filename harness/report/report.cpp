@@ -195,13 +195,6 @@ json imagePaths(const std::vector<fs::path>& roots, const std::string& scene, co
   return nullptr;
 }
 
-std::string isoNow() {
-  std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
 std::string htmlEscape(const std::string& s) {
   std::string out;
   for (char c : s) {
@@ -331,7 +324,7 @@ class ReportCollector {
     std::string title = absoluteNormal(dir_).filename().string();
     return {{"title", title.empty() ? dir_ : title},
             {"dir", dir_},
-            {"generated", isoNow()},
+            {"generated", isoDateUtc()},
             {"generator_revision", buildGitSha()},
             {"sources", std::move(sources_)},
             {"scenes", std::move(scenesJson)},
