@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "harness/bench/benchmark_kit.hpp"
+#include "harness/evaluation/metrics.hpp"
 #include "harness/pipeline/method.hpp"
 #include "harness/pipeline/runner.hpp"
 
@@ -73,6 +74,47 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   if (const BenchmarkSession* session = BenchmarkSession::current()) options.seed = session->seed();
   Runner runner(scene, limits, options);
   return frames > 0 ? timedRunSpec(runner, limits, spec) : runSpec(runner, limits, spec);
+}
+// One row of a benchmark table: a timed run, its scattering time and its L_s error.
+struct Measured {
+  MethodRun run;
+  double scatterMs = 0;  // the table's scattering time (MethodRun::scatterMs unless the table says otherwise)
+  double rmse = 0, relmse = 0;  // L_s against the reference (0 without one)
+  bool ok = false;              // the run succeeded
+};
+using ScatterTime = std::function<double(const MethodRun&)>;
+// A run that did not succeed prints its reason as a quoted Markdown line.
+inline Measured measured(MethodRun run, const std::string& spec, const Image* reference, const ScatterTime& scatter) {
+  Measured m;
+  m.run = std::move(run);
+  if (m.run.status != RunStatus::Success) {
+    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
+    std::fflush(stdout);
+    return m;
+  }
+  m.ok = true;
+  m.scatterMs = scatter ? scatter(m.run) : m.run.scatterMs();
+  if (reference) {
+    ErrorMetrics e = compareImages(m.run.inscatter, *reference);
+    m.rmse = e.rmse;
+    m.relmse = e.relmse;
+  }
+  std::fflush(stdout);
+  return m;
+}
+// benchmarkSpec as a table row.
+inline Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int width, int height,
+                        int frames, const Image* reference, const ScatterTime& scatter = {}) {
+  return measured(benchmarkSpec(scene, spec, limits, width, height, frames), spec, reference, scatter);
+}
+// One untimed frame on a shared runner (the points of an equal-error search, whose errors are what
+// counts); its images are dropped once the error is taken.
+inline Measured measureOnce(Runner& runner, const std::string& spec, const gl::Limits& limits, const Image& reference,
+                            const ScatterTime& scatter = {}) {
+  Measured m = measured(runSpec(runner, limits, spec), spec, &reference, scatter);
+  m.run.inscatter = Image();
+  m.run.final = Image();
+  return m;
 }
 // A figure measured in several rounds: the median of the rounds and their range.
 struct Spread {

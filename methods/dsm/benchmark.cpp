@@ -19,50 +19,11 @@ namespace {
 
 using namespace vs;
 
-struct Measured {
-  MethodRun run;
-  double scatterMs = 0;  // DSM Generation + Volume March, or Ray Marching
-  double relmse = 0;
-  bool ok = false;
-};
-
 // The paper's visibility function: fixed opacity thresholds, straight segments in opacity.
 const std::string kPaperLayout = "segments=linear:thresholds=absolute";
 
 double scatterMsOf(const MethodRun& run) {
   return run.passMs("DSM Generation") + run.passMs("Volume March") + run.passMs("Ray Marching");
-}
-
-Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
-                 const Image* reference) {
-  Measured m;
-  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
-  if (m.run.status != RunStatus::Success) {
-    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
-    return m;
-  }
-  m.ok = true;
-  m.scatterMs = scatterMsOf(m.run);
-  if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
-  return m;
-}
-
-// One frame on a scene's shared runner, without a warm-up: the equal-quality grid's points, whose
-// errors are what counts; their single-frame times only pick each rung's match, which is then timed
-// in rounds.
-Measured measureOnce(Runner& runner, const std::string& spec, const gl::Limits& limits, const Image& reference) {
-  Measured m;
-  m.run = runSpec(runner, limits, spec);
-  if (m.run.status != RunStatus::Success) {
-    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
-    return m;
-  }
-  m.ok = true;
-  m.scatterMs = scatterMsOf(m.run);
-  m.relmse = compareImages(m.run.inscatter, reference).relmse;
-  m.run.inscatter = Image();
-  m.run.final = Image();
-  return m;
 }
 
 double stat(const MethodRun& run, const std::string& key) {
@@ -101,7 +62,7 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
               "channel's transmittance T^ratio) is only an approximation; `channels=3` (the default `auto` here) "
               "generates and reads one map per channel. Times: median [range] over %d rounds in turn.\n\n", rounds);
   Scene scene = twoColourScene();
-  Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2", limits, w, h, 0, nullptr);
+  Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2", limits, w, h, 0, nullptr, scatterMsOf);
   if (!ref.ok) return;
   std::printf("| setting | channels | L_s relMSE | L relMSE | DSM Generation ms | Volume March ms | scattering ms |\n"
               "|---|---|---|---|---|---|---|\n");
@@ -110,7 +71,7 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
     for (const char* channels : {"1", "3"}) specs.push_back(std::string("dsm:") + setting + ":channels=" + channels);
     auto timed = runInterleaved(scene, specs, limits, w, h, frames, rounds);
     for (size_t i = 0; i < specs.size(); ++i) {
-      Measured m = measure(scene, specs[i], limits, w, h, 0, &ref.run.inscatter);
+      Measured m = measure(scene, specs[i], limits, w, h, 0, &ref.run.inscatter, scatterMsOf);
       if (!m.ok || timed[i].empty()) continue;
       double finalErr = compareImages(m.run.final, ref.run.final).relmse;
       std::printf("| %s | %s | %.2e | %.2e | %s | %s | %s |\n", setting, i == 0 ? "1" : "3", m.relmse, finalErr,
@@ -178,7 +139,7 @@ int main(int argc, char** argv) {
   ladder.insert(ladder.begin() + defaultsRung + 1, kPaperLayout);
   for (const char* name : {"cloud", "volumes"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, w, h, 0, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, w, h, 0, nullptr, scatterMsOf);
     if (!ref.ok) return 1;
     RunOptions once;
     once.width = w;
@@ -190,7 +151,7 @@ int main(int argc, char** argv) {
     std::vector<Measured> rungs;
     double lowest = 1e30;
     for (const std::string& setting : ladder) {
-      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, limits, ref.run.inscatter));
+      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, limits, ref.run.inscatter, scatterMsOf));
       if (rungs.back().ok) lowest = std::min(lowest, rungs.back().relmse);
     }
     std::vector<Measured> baselines;
@@ -204,7 +165,7 @@ int main(int argc, char** argv) {
         for (double steps = 16; steps <= (quick ? 64 : 1100); steps *= std::sqrt(2.0)) {
           std::string spec = "raymarch:steps=" + std::to_string(int(std::lround(steps))) + ":vsteps=" + vsteps +
                              ":sampling=" + sampling;
-          baselines.push_back(measureOnce(gridRunner, spec, limits, ref.run.inscatter));
+          baselines.push_back(measureOnce(gridRunner, spec, limits, ref.run.inscatter, scatterMsOf));
           baselineSpecs.push_back(spec);
           const Measured& b = baselines.back();
           if (!b.ok) continue;
@@ -290,7 +251,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::pair<Scene, Image>> refs;
   for (const char* name : {"volumes", "cloud"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, sw, sh, 0, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, sw, sh, 0, nullptr, scatterMsOf);
     if (!ref.ok) return 1;
     refs.emplace(name, std::make_pair(scene, ref.run.inscatter));
   }
@@ -299,7 +260,7 @@ int main(int argc, char** argv) {
       std::printf("| %s | %s", knob.key, value);
       for (const char* name : {"volumes", "cloud"}) {
         auto& [scene, ref] = refs.at(name);
-        Measured m = measure(scene, std::string("dsm:") + knob.key + "=" + value, limits, sw, sh, frames, &ref);
+        Measured m = measure(scene, std::string("dsm:") + knob.key + "=" + value, limits, sw, sh, frames, &ref, scatterMsOf);
         std::printf(" | %.2e | %.1f", m.relmse, m.scatterMs);
       }
       std::printf(" |\n");
@@ -319,7 +280,7 @@ int main(int argc, char** argv) {
     const Volume& v = scene.volumes[0];
     int side = quick ? 96 : 512;
     Measured m = measure(scene, "dsm:res=512:gen_step=0.5:gen_steps=512:view_steps=128:haze_steps=0:interp=smoothstep:" + kPaperLayout, limits, side,
-                         side, frames, nullptr);
+                         side, frames, nullptr, scatterMsOf);
     if (!m.ok) continue;
     std::printf("| %s | %dx%dx%d | %.1f | %.1f | %.1f | %.1f | %.1f | %.3g |\n", generator, v.dims[0], v.dims[1],
                 v.dims[2], m.run.passMs("DSM Generation"), m.run.passMs("Volume March"),

@@ -22,28 +22,6 @@ namespace {
 
 using namespace vs;
 
-struct Measured {
-  MethodRun run;
-  double scatterMs = 0;  // the method's own passes (the papers leave out the shared ones)
-  double relmse = 0;
-  bool ok = false;
-};
-
-Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
-                 const Image* reference) {
-  Measured m;
-  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
-  if (m.run.status != RunStatus::Success) {
-    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
-    return m;
-  }
-  m.ok = true;
-  m.scatterMs = m.run.scatterMs();
-  if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
-  std::fflush(stdout);
-  return m;
-}
-
 // Voxelize / scan / gather columns of a row: naive rows (vsv behind the wrapper) fuse the scan
 // into their voxelizer; their per-VPL shadow maps stand where ivsv has its ISMs.
 struct Columns {

@@ -20,29 +20,6 @@ namespace {
 
 using namespace vs;
 
-struct Measured {
-  MethodRun run;
-  double scatterMs = 0;  // the method's own passes (everything but the shared ones)
-  double rmse = 0, relmse = 0;
-};
-
-Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
-                 const Image* reference) {
-  Measured m;
-  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
-  if (m.run.status != RunStatus::Success) {
-    std::printf("  %s: %s\n", spec.c_str(), m.run.reason.c_str());
-    return m;
-  }
-  m.scatterMs = m.run.scatterMs();
-  if (reference) {
-    ErrorMetrics e = compareImages(m.run.inscatter, *reference);
-    m.rmse = e.rmse;
-    m.relmse = e.relmse;
-  }
-  return m;
-}
-
 // Chen, Baran, Durand, Jarosz 2011, Table 1 (4096² shadow map, their GPU), transcribed: per scene
 // the passes in ms, the total scattering time and brute-force ray marching at equal quality. Our
 // scenes after theirs: room for SIBENIK (and room+tex for SIBENIKTEX), trees, terrain. The paper

@@ -28,32 +28,11 @@ using namespace vs;
 
 const char* const kOwnPasses[] = {"Near/Far Maps", "Slicemap", "Prefix Counts", "Scattering"};
 
-struct Measured {
-  MethodRun run;
-  double scatterMs = 0;  // the method's own passes without Shading (raymarch: Ray Marching)
-  double relmse = 0;
-  bool ok = false;
-};
-
 // The method's own passes without Shading (raymarch: Ray Marching).
 double scatterMs(const MethodRun& run) {
   double ms = run.passMs("Ray Marching");
   for (const char* pass : kOwnPasses) ms += run.passMs(pass);
   return ms;
-}
-
-Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int w, int h, int frames,
-                 const Image* reference) {
-  Measured m;
-  m.run = benchmarkSpec(scene, spec, limits, w, h, frames);
-  if (m.run.status != RunStatus::Success) {
-    std::printf("\n> %s: %s\n\n", spec.c_str(), m.run.reason.c_str());
-    return m;
-  }
-  m.ok = true;
-  m.scatterMs = scatterMs(m.run);
-  if (reference) m.relmse = compareImages(m.run.inscatter, *reference).relmse;
-  return m;
 }
 
 double stat(const MethodRun& run, const std::string& key) {
@@ -135,7 +114,7 @@ int main(int argc, char** argv) {
           // The paper's transmittance shadow maps: opaque occluders in the shadow map, the leaves alone in the slicemap.
           std::string spec = "slicemap:res=512:steps=64:opaque=shadowmap:pack=0:slicing=" + std::string(slicing) +
                              ":targets=" + std::to_string(targets);
-          Measured m = measure(scene, spec, limits, side, side, frames, nullptr);
+          Measured m = measure(scene, spec, limits, side, side, frames, nullptr, scatterMs);
           if (!m.ok) continue;
           const MethodRun& r = m.run;
           double ssm = r.passMs(kShadowMapPass) + r.passMs(kGBufferPass) + r.passMs(kDirectLightingPass) + r.passMs(kCompositePass);
@@ -158,7 +137,7 @@ int main(int argc, char** argv) {
     for (const char* slicing : {"uniform", "local"})
       for (int targets : {1, 8}) {
         std::string spec = "slicemap:res=512:steps=1:surface=0:slicing=" + std::string(slicing) + ":targets=" + std::to_string(targets);
-        Measured m = measure(big, spec, limits, 64, 48, frames, nullptr);
+        Measured m = measure(big, spec, limits, 64, 48, frames, nullptr, scatterMs);
         if (!m.ok) continue;
         std::printf("| %.0f | %s | %d | %.1f | %.1f | %.3g | %.3g |\n", stat(m.run, "slicemap_triangles"), slicing, 128 * targets,
                     m.run.passMs("Near/Far Maps"), m.run.passMs("Slicemap"), stat(m.run, "slicemap_triangles_per_s"),
@@ -204,7 +183,7 @@ int main(int argc, char** argv) {
     for (int targets : {1, 2, 4, 8})
       for (const char* lookup : {"scan", "prefix"}) {
         Measured m = measure(foliage, "slicemap:steps=128:pack=0:targets=" + std::to_string(targets) + ":lookup=" + lookup, limits,
-                             w, h, frames, nullptr);
+                             w, h, frames, nullptr, scatterMs);
         if (!m.ok) continue;
         std::printf("| %d | %d | %s | %.1f | %.1f |\n", targets, 128 * targets, lookup, m.run.passMs("Prefix Counts"),
                     m.run.passMs("Scattering"));
@@ -216,11 +195,11 @@ int main(int argc, char** argv) {
     std::printf("share=S: S consecutive samples take their visibility from the column at the group's middle, each at "
                 "its own light depth. L_s relMSE against raymarch steps=4096 (equiangular).\n\n");
     std::printf("| res | share | L_s relMSE | Scattering ms |\n|---|---|---|---|\n");
-    Measured shareRef = measure(foliage, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 0, nullptr);
+    Measured shareRef = measure(foliage, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 0, nullptr, scatterMs);
     for (int res : {128, 512})
       for (int share : {1, 2, 4, 8}) {
         Measured m = measure(foliage, "slicemap:res=" + std::to_string(res) + ":share=" + std::to_string(share), limits, w, h,
-                             frames, shareRef.ok ? &shareRef.run.inscatter : nullptr);
+                             frames, shareRef.ok ? &shareRef.run.inscatter : nullptr, scatterMs);
         if (!m.ok) continue;
         std::printf("| %d | %d | %.2e | %.1f |\n", res, share, m.relmse, m.run.passMs("Scattering"));
         std::fflush(stdout);
@@ -233,7 +212,7 @@ int main(int argc, char** argv) {
     std::printf("| scene | method | L_s relMSE | scattering ms |\n|---|---|---|---|\n");
     for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
       Scene scene = loadScene(name);
-      Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", limits, w / 2, h / 2, 0, nullptr);
+      Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular:sm=2048", limits, w / 2, h / 2, 0, nullptr, scatterMs);
       if (!ref.ok) continue;
       for (const auto& info : registeredMethods()) {
         MethodRun r = benchmarkSpec(scene, info.name + ":sm=2048", limits, w / 2, h / 2, frames);
@@ -262,7 +241,7 @@ int main(int argc, char** argv) {
   for (auto* entry : {&foliage, &chestnut}) {
     const Scene& scene = *entry;
     const char* name = entry == &foliage ? "foliage" : "chestnut";
-    Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 0, nullptr);
+    Measured ref = measure(scene, "raymarch:steps=4096:sampling=equiangular", limits, w, h, 0, nullptr, scatterMs);
     if (!ref.ok) return 1;
     std::map<int, double> errorAt;  // the baseline's error per step count, shared by the settings
     std::vector<const char*> settings = {"steps=32", "steps=64", "", "steps=256", "res=256", "res=256:steps=64",
@@ -270,7 +249,7 @@ int main(int argc, char** argv) {
     if (entry == &chestnut) settings = {""};
     for (const char* params : settings) {
       std::string spec = std::string("slicemap") + (*params ? ":" : "") + params;
-      Measured m = measure(scene, spec, limits, w, h, 0, &ref.run.inscatter);
+      Measured m = measure(scene, spec, limits, w, h, 0, &ref.run.inscatter, scatterMs);
       if (!m.ok) continue;
       auto baseline = [](int steps) { return "raymarch:steps=" + std::to_string(steps) + ":sampling=equiangular"; };
       // The smallest step count reaching slicemap's error (harness/evaluation/step_search.hpp), up to 4096.
@@ -278,7 +257,7 @@ int main(int argc, char** argv) {
           [&](int n) {
             auto it = errorAt.find(n);
             if (it == errorAt.end()) {
-              Measured b = measure(scene, baseline(n), limits, w, h, 0, &ref.run.inscatter);
+              Measured b = measure(scene, baseline(n), limits, w, h, 0, &ref.run.inscatter, scatterMs);
               it = errorAt.emplace(n, b.ok ? b.relmse : 1e30).first;
             }
             return it->second <= m.relmse;
