@@ -308,14 +308,19 @@ TEST_F(ReferenceBaselineTest, TheReferenceWritesItsBudgetAndItsBaselines) {
     // Its baselines: one per series it offers, each a spec that resolves and differs by steps.
     int baselines = 0;
     for (const auto& series : method->qualitySeries(effects)) {
-      std::string at8 = method->baselineParams(series.name, 8), at16 = method->baselineParams(series.name, 16);
+      std::string at8 = method->baselineParams({series.name, 8}), at16 = method->baselineParams({series.name, 16});
       if (at8.empty()) continue;
       ++baselines;
       EXPECT_NE(at8, at16);
       EXPECT_NO_THROW(resolveSpec(capped.name + ":" + at8, glLimits())) << at8;
     }
     EXPECT_GE(baselines, area ? 1 : 2) << "point lights have the uniform and the equiangular baseline";
-    EXPECT_TRUE(method->baselineParams("no-such-series", 8).empty());
+    EXPECT_TRUE(method->baselineParams({"no-such-series", 8}).empty());
+    if (area) {  // light samples reach the spec
+      std::string at4 = method->baselineParams({method->qualitySeries(effects)[0].name, 8, 4});
+      ResolvedSpec r = resolveSpec(capped.name + ":" + at4, glLimits());
+      EXPECT_EQ(r.params.getInt("light_samples"), 4) << at4;
+    }
   }
 }
 

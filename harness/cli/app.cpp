@@ -269,12 +269,12 @@ class EqualQuality {
     // brute-force baselines (raymarch: uniform, the papers', and equiangular, the strong one, for
     // point and spot lights).
     for (const auto& series : baselineMethod_->qualitySeries(plan.effects))
-      if (!baselineMethod_->baselineParams(series.name, 1).empty()) samplings_.push_back(series.name);
+      if (!baselineMethod_->baselineParams({series.name, 1}).empty()) samplings_.push_back(series.name);
   }
   const std::string& baseline() const { return baseline_; }
   const std::vector<std::string>& samplings() const { return samplings_; }
   std::string spec(const std::string& sampling, int sm, int steps) const {
-    return baseline_ + ":" + baselineMethod_->baselineParams(sampling, steps) + ":sm=" + std::to_string(sm);
+    return baseline_ + ":" + baselineMethod_->baselineParams({sampling, steps}) + ":sm=" + std::to_string(sm);
   }
 
   Point at(const std::string& sampling, int sm, int steps) {

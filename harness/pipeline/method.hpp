@@ -75,6 +75,15 @@ struct DebugView {
 struct ReferenceBudget {
   int maxSteps = 0;          // samples per camera ray
   int maxShadowMapSize = 0;  // its own shadow maps (an area light's per-sample maps)
+  int lightSamples = 0;      // area lights: points on the light (0: the method's choice)
+};
+// One brute-force baseline: the reference method in one of its ladder series (a name from
+// qualitySeries(effects), e.g. "uniform", "equiangular") at `steps` samples per camera ray and, for
+// area lights, `lightSamples` points on the light (0: the method's default).
+struct BaselinePoint {
+  std::string series;
+  int steps = 0;
+  int lightSamples = 0;
 };
 
 class Method {
@@ -109,13 +118,11 @@ class Method {
     (void)budget;
     return "";
   }
-  // The reference method as brute force: its parameters at `steps` samples per camera ray in its
-  // ladder series `series` (a name from qualitySeries(effects), e.g. "uniform", "equiangular").
-  // The equal-quality baselines are these; empty when the method has no such baseline. So no code
-  // outside the method writes its parameter names.
-  virtual std::string baselineParams(const std::string& series, int steps) const {
-    (void)series;
-    (void)steps;
+  // The reference method as brute force: its parameters at one baseline point. The equal-quality
+  // baselines of the shootout and the benchmarks are these; empty when the method has no such
+  // baseline (or not in that series). So no code outside the method writes its parameter names.
+  virtual std::string baselineParams(const BaselinePoint& point) const {
+    (void)point;
     return "";
   }
   // Why this method cannot render `scene` with `params`; empty when it can. The default is

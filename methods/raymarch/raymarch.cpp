@@ -73,20 +73,23 @@ std::vector<Method::QualitySeries> RaymarchMethod::qualitySeries(const Effects& 
 
 std::string RaymarchMethod::referenceParams(const Effects& effects, const ReferenceBudget& budget) const {
   auto capped = [](int value, int most) { return std::to_string(most > 0 ? std::min(value, most) : value); };
+  const int lightSamples = budget.lightSamples > 0 ? std::min(budget.lightSamples, kMaxLightSamples) : 64;
   // Area lights: the light samples dominate the error (scripts/benchmark-effects: at 64 samples,
   // 256 steps are within relMSE 1.4e-3 of 4096), and 4096 x 64 took 130 s at 384x288.
   // The light samples are shifted off the Hammersley points that ivsv, the per-VPL wrapper and
   // raymarch's own light_samples use: a reference on the same points would hide their VPL error.
   if (effects.areaLight)
-    return "steps=" + capped(1024, budget.maxSteps) + ":jitter=1:sampling=equiangular:light_samples=64:light_sm=" +
+    return "steps=" + capped(1024, budget.maxSteps) + ":jitter=1:sampling=equiangular:light_samples=" + std::to_string(lightSamples) + ":light_sm=" +
            capped(512, budget.maxShadowMapSize) + ":light_shift=1";
   return "steps=" + capped(4096, budget.maxSteps) + ":jitter=1:sampling=equiangular:vsteps=2";
 }
 
 // The series are qualitySeries()'s: uniform steps (the papers' brute force), equiangular steps.
-std::string RaymarchMethod::baselineParams(const std::string& series, int steps) const {
-  if (series != "uniform" && series != "equiangular") return "";
-  return "steps=" + std::to_string(steps) + ":sampling=" + series;
+std::string RaymarchMethod::baselineParams(const BaselinePoint& point) const {
+  if (point.series != "uniform" && point.series != "equiangular") return "";
+  std::string params = "steps=" + std::to_string(point.steps) + ":sampling=" + point.series;
+  if (point.lightSamples > 0) params += ":light_samples=" + std::to_string(point.lightSamples);
+  return params;
 }
 
 std::string RaymarchMethod::unsupportedReason(const Scene& scene, const ParamValues& params) const {

@@ -14,7 +14,7 @@ class RaymarchMethod : public Method {
   std::vector<std::string> qualityLadder() const override;
   std::vector<QualitySeries> qualitySeries(const Effects& effects) const override;
   std::string referenceParams(const Effects& effects, const ReferenceBudget& budget) const override;
-  std::string baselineParams(const std::string& series, int steps) const override;
+  std::string baselineParams(const BaselinePoint& point) const override;
   // Area lights: the light's sample points and their cube maps' range are placed in setup.
   bool setupDependsOnLight(const Effects& effects) const override { return effects.areaLight; }
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;
