@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "harness/bench/benchmark_kit.hpp"
+#include "harness/bench/equal_error.hpp"
 #include "harness/evaluation/metrics.hpp"
+#include "harness/evaluation/step_search.hpp"
 #include "harness/pipeline/method.hpp"
 #include "harness/pipeline/runner.hpp"
 
@@ -75,14 +78,6 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   Runner runner(scene, limits, options);
   return frames > 0 ? timedRunSpec(runner, limits, spec) : runSpec(runner, limits, spec);
 }
-// One row of a benchmark table: a timed run, its scattering time and its L_s error.
-struct Measured {
-  MethodRun run;
-  double scatterMs = 0;  // the table's scattering time (MethodRun::scatterMs unless the table says otherwise)
-  double rmse = 0, relmse = 0;  // L_s against the reference (0 without one)
-  bool ok = false;              // the run succeeded
-};
-using ScatterTime = std::function<double(const MethodRun&)>;
 // A run that did not succeed prints its reason as a quoted Markdown line.
 inline Measured measured(MethodRun run, const std::string& spec, const Image* reference, const ScatterTime& scatter) {
   Measured m;
@@ -116,10 +111,6 @@ inline Measured measureOnce(Runner& runner, const std::string& spec, const gl::L
   m.run.final = Image();
   return m;
 }
-// A figure measured in several rounds: the median of the rounds and their range.
-struct Spread {
-  double median = 0, lo = 0, hi = 0;
-};
 // Runs every spec `rounds` times in turn (A B C, A B C, ...) so that each sees the same machine
 // and no row pays for being first; per spec its successful runs in round order.
 inline std::vector<std::vector<MethodRun>> runInterleaved(const Scene& scene, const std::vector<std::string>& specs,
@@ -136,11 +127,6 @@ inline std::vector<std::vector<MethodRun>> runInterleaved(const Scene& scene, co
   return runs;
 }
 // The spread of figure(run) over the runs of one spec (zeros without any).
-inline Spread spreadOfValues(const std::vector<double>& v) {
-  if (v.empty()) return {};
-  auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-  return {medianOf(v), *lo, *hi};
-}
 inline Spread spreadOf(const std::vector<MethodRun>& runs, const std::function<double(const MethodRun&)>& figure) {
   std::vector<double> v;
   for (const MethodRun& run : runs) v.push_back(figure(run));
@@ -154,11 +140,84 @@ inline std::vector<Spread> measureInterleaved(const Scene& scene, const std::vec
     out.push_back(spreadOf(runs, figure));
   return out;
 }
-// "12.3 [11.9–13.0]": a spread as a table cell.
-inline std::string spreadCell(const Spread& s) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.1f [%.1f–%.1f]", s.median, s.lo, s.hi);
-  return text;
+// A method against brute force at equal L_s error, timed: the method and every candidate baseline
+// run in interleaved rounds (A B C, A B C, ...), so each speed-up is the median of per-round ratios
+// of the baseline's time to the method's, with their range.
+inline EqualQualityTiming timeAgainstBaselines(const Scene& scene, const std::string& methodSpec,
+                                               const std::vector<std::string>& baselineSpecs, const gl::Limits& limits,
+                                               int width, int height, int frames, int rounds,
+                                               const ScatterTime& scatter = {}) {
+  std::vector<std::string> specs = {methodSpec};
+  specs.insert(specs.end(), baselineSpecs.begin(), baselineSpecs.end());
+  auto runs = runInterleaved(scene, specs, limits, width, height, frames, rounds);
+  auto times = [&](const std::vector<MethodRun>& r) {
+    std::vector<double> ms;
+    for (const MethodRun& run : r) ms.push_back(scatter ? scatter(run) : run.scatterMs());
+    return ms;
+  };
+  EqualQualityTiming t;
+  const std::vector<double> own = times(runs[0]);
+  t.methodMs = spreadOfValues(own);
+  for (size_t i = 1; i < runs.size(); ++i) {
+    const bool complete = runs[i].size() == size_t(rounds) && own.size() == size_t(rounds);
+    t.baselineMs.push_back(complete ? spreadOfValues(times(runs[i])) : Spread{});
+    t.speedup.push_back(complete ? ratioSpread(times(runs[i]), own) : Spread{});
+    if (complete && (t.cheapest < 0 || t.baselineMs.back().median < t.baselineMs[size_t(t.cheapest)].median))
+      t.cheapest = int(i - 1);
+  }
+  return t;
+}
+// The reference method's spec for a scene (Method::referenceParams), with shared parameters
+// ("sm=1024") appended: the benchmarks' references.
+inline std::string referenceSpec(const Scene& scene, const std::string& shared = "", const ReferenceBudget& budget = {}) {
+  ReferenceMethod m = referenceMethodFor(deriveEffects(scene), registeredMethods(), budget);
+  return m.name + ":" + m.params + (shared.empty() ? "" : ":" + shared);
+}
+// Which baselines a row is matched with: by default each series the reference method offers at
+// the method's error (matchSteps); a benchmark may match on light samples instead.
+using MatchBaselines = std::function<std::vector<BaselineMatch>(BruteForceMatcher&, double target)>;
+inline std::vector<BaselineMatch> matchEverySeries(BruteForceMatcher& matcher, double target) {
+  std::vector<BaselineMatch> matches;
+  for (const std::string& series : matcher.series()) matches.push_back(matcher.matchSteps(series, target));
+  return matches;
+}
+struct EqualQualitySetup {
+  int width = 0, height = 0, frames = 3, rounds = 3;
+  std::string shared;  // parameters every spec of the row gets ("sm=1024")
+  ScatterTime scatter;
+  MatchBaselines match = matchEverySeries;
+};
+inline EqualQualityRow equalQualityRow(const Scene& scene, const std::string& spec, const Image& reference,
+                                       const gl::Limits& limits, const EqualQualitySetup& setup) {
+  EqualQualityRow row;
+  row.spec = spec;
+  row.method = measure(scene, spec, limits, setup.width, setup.height, 0, &reference, setup.scatter);
+  if (!row.method.ok) return row;
+  const uint32_t seed = BenchmarkSession::current() ? BenchmarkSession::current()->seed() : 1;
+  BruteForceMatcher matcher(scene, reference, limits, registeredMethods(), setup.width, setup.height, seed, setup.shared);
+  row.matches = setup.match(matcher, row.method.relmse);
+  std::vector<std::string> specs;
+  for (const BaselineMatch& m : row.matches) specs.push_back(m.spec);
+  row.timing = timeAgainstBaselines(scene, spec, specs, limits, setup.width, setup.height, setup.frames, setup.rounds,
+                                    setup.scatter);
+  return row;
+}
+// Equal time: the most steps n in [1, most] whose scattering time stays within `budgetMs` (time
+// taken as increasing in n), by the step search, each point timed once; n and its timed run.
+inline std::pair<int, Measured> equalTimeBaseline(const Scene& scene, const std::function<std::string(int)>& specAt,
+                                                  double budgetMs, const Image& reference, const gl::Limits& limits,
+                                                  int width, int height, int frames, int most = 4096) {
+  std::map<int, Measured> tried;
+  auto at = [&](int n) -> const Measured& {
+    auto it = tried.find(n);
+    if (it == tried.end()) it = tried.emplace(n, measure(scene, specAt(n), limits, width, height, frames, &reference)).first;
+    return it->second;
+  };
+  smallestPassingSteps([&](int n) { return !at(n).ok || at(n).scatterMs > budgetMs; }, most, 16, kStepTolerance);
+  int n = 1;  // the largest point tried that fits (the search narrows to within kStepTolerance)
+  for (const auto& [steps, m] : tried)
+    if (m.ok && m.scatterMs <= budgetMs) n = std::max(n, steps);
+  return {n, at(n)};
 }
 inline Reference obtainReference(const Scene& scene, const gl::Limits& limits, const RunOptions& options,
                                  int shadowMapSize, const std::string& cacheDir, const std::string& overrideSpec = "") {

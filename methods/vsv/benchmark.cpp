@@ -69,75 +69,53 @@ double spreadRatio(const std::vector<double>& v) {
 
 const char* verdict(bool holds) { return holds ? "holds" : "does not hold"; }
 
-}  // namespace
+// Tables 1-3: every row's runs measured in turn over kRounds rounds (no row pays for being first);
+// each cell the median over the rounds of the runs' pass medians, [min–max] beside it.
+constexpr int kRounds = 3;
+constexpr int kFrames = 3;
+std::string cell(const std::vector<MethodRun>& runs, const char* pass) {
+  return spreadCell(spreadOf(runs, [pass](const MethodRun& r) { return r.passMs(pass); }));
+}
+std::string scatterCell(const std::vector<MethodRun>& runs) {
+  return spreadCell(spreadOf(runs, [](const MethodRun& r) { return r.scatterMs(); }));
+}
 
-
-
-int main(int argc, char** argv) {
-  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
-  int width = 256, height = 192;
-  if (argc > 2 || (argc > 1 && (std::sscanf(argv[1], "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
-                                width > 8192 || height > 8192))) {
-    std::fprintf(stderr, "usage: vsv_benchmark [--seed N] [WIDTHxHEIGHT]\n");
-    return 2;
-  }
-  BenchmarkSession session(common);
-  const gl::Limits& limits = session.limits();
-  std::printf("# vsv: voxelized shadow volumes, measured\n\n");
-  std::printf("Regenerate: `scripts/reproduce vsv` (two processes of `vsv_benchmark 160x120` with different seeds, "
-              "merged).\n\n");
-  std::printf("%s- %dx%d, %s\n", session.preamble("- ").c_str(), width, height, benchmarkFramesNote(3).c_str());
-  RunOptions options;
-  options.width = width;
-  options.height = height;
-  options.frames = 3;
-  options.warmup = 1;
-  options.minTimeMs = kBenchmarkMinTimeMs;
-  options.seed = session.seed();
-
-  // Matched on L_s relMSE (harness/evaluation/metrics.hpp): RMSE on `spheres` is dominated by the one pixel
-  // next to the on-screen point light, relMSE weighs every pixel by its own brightness.
-  std::printf("\n## Equal quality against raymarch (L_s relMSE against raymarch:steps=2048)\n");
-  std::printf("| scene | vsv L_s relMSE | vsv RMSE | vsv ms | raymarch steps at equal relMSE | raymarch relMSE | raymarch ms | speedup |\n"
-              "|---|---|---|---|---|---|---|---|\n");
+// Equal quality against each brute-force series at vsv's L_s relMSE (RMSE on `spheres` is decided
+// by the one pixel next to the on-screen light; relMSE weighs every pixel by its own brightness),
+// and Fig. 7's surface shadows from the VSV.
+void equalQualitySection(const gl::Limits& limits, int width, int height) {
+  std::printf("\n## Equal quality against brute-force ray marching (L_s relMSE against the reference method's own)\n\n");
+  std::printf("Each brute-force series at the smallest step count whose L_s relMSE is at most vsv's (bisected to "
+              "1/64), then vsv and the matches timed in %d interleaved rounds; times are scattering times (own passes), "
+              "speed-ups medians of per-round ratios [range]. Bold: the strongest baseline.\n\n", kRounds);
+  EqualQualitySetup setup;
+  setup.width = width;
+  setup.height = height;
+  setup.frames = kFrames;
+  setup.rounds = kRounds;
+  setup.shared = "sm=1024";
+  std::vector<std::pair<std::string, EqualQualityRow>> rows;
   std::string surfaceRows;
   for (const char* name : {"spheres", "room", "fence"}) {
     Scene scene = loadScene(name);
-    Runner runner(scene, limits, options);
-    MethodRun ref = runSpec(runner, limits, "raymarch:steps=2048:sm=1024");
-    MethodRun v = timedRunSpec(runner, limits, "vsv:sm=1024");
-    ErrorMetrics vErr = compareImages(v.inscatter, ref.inscatter);
-    int steps = 0;
-    double rmMs = 0, rmErr = 0;
-    for (int s = 8; s <= 1024; s *= 2) {
-      MethodRun r = timedRunSpec(runner, limits, "raymarch:sm=1024:steps=" + std::to_string(s));
-      steps = s;
-      rmMs = r.frame.medianMs;
-      rmErr = compareImages(r.inscatter, ref.inscatter).relmse;
-      if (rmErr <= vErr.relmse) break;
-    }
-    std::printf("| %s | %.2e | %.5f | %.1f | %d | %.2e | %.1f | %.2fx |\n", name, vErr.relmse, vErr.rmse, v.frame.medianMs,
-                steps, rmErr, rmMs, rmMs / std::max(v.frame.medianMs, 1e-9));
-    std::fflush(stdout);
-    MethodRun surf = timedRunSpec(runner, limits, "vsv:sm=1024:surface=1");
-    surfaceRows += "| " + std::string(name) + " | " + std::to_string(surf.passMs("Surface Shadows")) + " | " +
-                   std::to_string(compareImages(surf.final, ref.final).relmse) + " | " +
-                   std::to_string(compareImages(v.final, ref.final).relmse) + " |\n";
+    Measured ref = measure(scene, referenceSpec(scene, "sm=1024"), limits, width, height, 0, nullptr);
+    if (!ref.ok) continue;
+    rows.emplace_back(name, equalQualityRow(scene, "vsv:sm=1024", ref.run.inscatter, limits, setup));
+    Measured surf = measure(scene, "vsv:sm=1024:surface=1", limits, width, height, kFrames, nullptr);
+    const Measured& v = rows.back().second.method;
+    if (surf.ok && v.ok)
+      surfaceRows += "| " + std::string(name) + " | " + std::to_string(surf.run.passMs("Surface Shadows")) + " | " +
+                     std::to_string(compareImages(surf.run.final, ref.run.final).relmse) + " | " +
+                     std::to_string(compareImages(v.run.final, ref.run.final).relmse) + " |\n";
   }
+  std::printf("%s", equalQualityTable(rows, "scene").c_str());
   std::printf("\n## Surface shadows from the VSV (Fig. 7): final image against the reference's (shadow-map surfaces)\n");
   std::printf("| scene | Surface Shadows ms | final relMSE surface=1 | final relMSE surface=0 |\n|---|---|---|---|\n%s",
               surfaceRows.c_str());
+  std::fflush(stdout);
+}
 
-  // Tables 2 and 3: every row's runs measured in turn over kRounds rounds (no row pays for being
-  // first); each cell the median over the rounds of the runs' pass medians, [min–max] beside it.
-  const int kRounds = 3;
-  Scene scene = loadScene("room");
-  auto cell = [](const std::vector<MethodRun>& runs, const char* pass) {
-    return spreadCell(spreadOf(runs, [pass](const MethodRun& r) { return r.passMs(pass); }));
-  };
-  auto scatterCell = [](const std::vector<MethodRun>& runs) {
-    return spreadCell(spreadOf(runs, [](const MethodRun& r) { return r.scatterMs(); }));
-  };
+void table1Section(const gl::Limits& limits, int width, int height) {
   std::printf("\n## Table 1: pass times (ms) per scene, vsv defaults (sm=1024) with the paper's voxelizer (fused=0), and fused\n");
   std::printf("Each cell: median over %d interleaved rounds (each scene's two rows in turn) of the pass's median over 3 "
               "frames, [min–max] over the rounds. Own passes: everything but the shared Shadow Map, G Buffer, Direct "
@@ -147,7 +125,7 @@ int main(int argc, char** argv) {
   std::vector<double> scanPerScene, computePerScene;
   for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
     Scene s1 = loadScene(name);
-    auto t1 = runInterleaved(s1, {"vsv:fused=0:sm=1024", "vsv:fused=1:sm=1024"}, limits, width, height, options.frames,
+    auto t1 = runInterleaved(s1, {"vsv:fused=0:sm=1024", "vsv:fused=1:sm=1024"}, limits, width, height, kFrames,
                              kRounds);
     const auto &paper = t1[0], &fused = t1[1];
     std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name, cell(paper, kShadowMapPass).c_str(),
@@ -178,6 +156,10 @@ int main(int argc, char** argv) {
               verdict(computeSpread <= 1.5), computeSpread, dearest < 5 ? sceneNames[dearest] : "?",
               dearest < computePerScene.size() ? computePerScene[dearest] : 0.0);
 
+}
+
+void table2Section(const gl::Limits& limits, int width, int height) {
+  Scene scene = loadScene("room");
   std::printf("\n## Table 2 (room): pass times (ms) against shadow-map size, vsv defaults with the paper's voxelizer (fused=0), and fused\n");
   std::printf("Each cell: median over %d interleaved rounds of the pass's median over 3 frames, [min–max] over the rounds.\n", kRounds);
   std::printf("| SM size | Shadow Map | G Buffer | Voxelize: From SM | Scan VSV | Compute L_s | fused Voxelize: From SM | "
@@ -189,7 +171,7 @@ int main(int argc, char** argv) {
     specs.push_back("vsv:fused=0:sm=" + std::to_string(sm));
     specs.push_back("vsv:fused=1:sm=" + std::to_string(sm));
   }
-  auto runs = runInterleaved(scene, specs, limits, width, height, options.frames, kRounds);
+  auto runs = runInterleaved(scene, specs, limits, width, height, kFrames, kRounds);
   for (size_t i = 0; i < smSizes.size(); ++i) {
     const auto &r = runs[2 * i], &fused = runs[2 * i + 1];
     size_t k = size_t(std::log2(double(smSizes[i]) / 512.0) + 0.5);  // the paper's column (512² first)
@@ -213,20 +195,23 @@ int main(int argc, char** argv) {
                 "rasterizing the map's texels is what llvmpipe's CPU cores pay for).\n",
                 verdict(spreadRatio(shadowMap) <= 2.0), spreadRatio(shadowMap));
   }
-  std::fflush(stdout);
+}
+
+void table3Section(const gl::Limits& limits, int width, int height) {
+  Scene scene = loadScene("room");
+  std::vector<std::string> specs;
   std::printf("\n## Table 3 (room): pass times (ms) against N_theta (sm=1024; From SM with the paper's voxelizer, fused=0, and fused)\n");
   std::printf("Each cell: median over %d interleaved rounds, [min–max] over the rounds.\n", kRounds);
   std::printf("| theta | Voxelize: From SM | Voxelize: Geometry | Scan VSV | Compute L_s | fused Voxelize: From SM | "
               "paper From SM | paper CUDA | paper Scan VSV |\n|---|---|---|---|---|---|---|---|---|\n");
   std::vector<int> thetas;
-  specs.clear();
   for (int theta = 128; theta <= 2048; theta *= 2) {
     thetas.push_back(theta);
     specs.push_back("vsv:sm=1024:fused=0:theta=" + std::to_string(theta));
     specs.push_back("vsv:sm=1024:fused=1:theta=" + std::to_string(theta));
     specs.push_back("vsv:sm=1024:vox=geom:theta=" + std::to_string(theta));
   }
-  runs = runInterleaved(scene, specs, limits, width, height, options.frames, kRounds);
+  auto runs = runInterleaved(scene, specs, limits, width, height, kFrames, kRounds);
   for (size_t i = 0; i < thetas.size(); ++i) {
     const auto &sm = runs[3 * i], &fused = runs[3 * i + 1], &geo = runs[3 * i + 2];
     std::printf("| %d | %s | %s | %s | %s | %s | %s | %s | %s |\n", thetas[i], cell(sm, "Voxelize: From SM").c_str(),
@@ -255,6 +240,28 @@ int main(int argc, char** argv) {
                 "%s (ours: From SM below the triangle voxelizer at every θ).\n",
                 verdict(fastest));
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
+  int width = 256, height = 192;
+  if (argc > 2 || (argc > 1 && (std::sscanf(argv[1], "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
+                                width > 8192 || height > 8192))) {
+    std::fprintf(stderr, "usage: vsv_benchmark [--seed N] [WIDTHxHEIGHT]\n");
+    return 2;
+  }
+  BenchmarkSession session(common);
+  const gl::Limits& limits = session.limits();
+  std::printf("# vsv: voxelized shadow volumes, measured\n\n");
+  std::printf("Regenerate: `scripts/reproduce vsv` (two processes of `vsv_benchmark 160x120` with different seeds, "
+              "merged).\n\n");
+  std::printf("%s- %dx%d, %s\n", session.preamble("- ").c_str(), width, height, benchmarkFramesNote(kFrames).c_str());
+  equalQualitySection(limits, width, height);
+  table1Section(limits, width, height);
+  table2Section(limits, width, height);
+  table3Section(limits, width, height);
   std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }
