@@ -173,6 +173,13 @@ inline std::string referenceSpec(const Scene& scene, const std::string& shared =
   ReferenceMethod m = referenceMethodFor(deriveEffects(scene), registeredMethods(), budget);
   return m.name + ":" + m.params + (shared.empty() ? "" : ":" + shared);
 }
+// The reference method as brute force at one baseline point on a scene, with shared parameters.
+inline std::string baselineSpec(const Scene& scene, const BaselinePoint& point, const std::string& shared = "") {
+  ReferenceMethod m = referenceMethodFor(deriveEffects(scene), registeredMethods());
+  std::string params = createMethod(m.name)->baselineParams(point);
+  if (params.empty()) throw UsageError(m.name + " offers no baseline in series '" + point.series + "'");
+  return m.name + ":" + params + (shared.empty() ? "" : ":" + shared);
+}
 // Which baselines a row is matched with: by default each series the reference method offers at
 // the method's error (matchSteps); a benchmark may match on light samples instead.
 using MatchBaselines = std::function<std::vector<BaselineMatch>(BruteForceMatcher&, double target)>;

@@ -316,6 +316,10 @@ TEST_F(ReferenceBaselineTest, TheReferenceWritesItsBudgetAndItsBaselines) {
     }
     EXPECT_GE(baselines, area ? 1 : 2) << "point lights have the uniform and the equiangular baseline";
     EXPECT_TRUE(method->baselineParams({"no-such-series", 8}).empty());
+    if (!area) {  // light-ray steps per voxel reach the spec
+      std::string half = method->baselineParams({"uniform", 8, 0, 0.5});
+      EXPECT_DOUBLE_EQ(resolveSpec(capped.name + ":" + half, glLimits()).params.getFloat("vsteps"), 0.5) << half;
+    }
     if (area) {  // light samples reach the spec
       std::string at4 = method->baselineParams({method->qualitySeries(effects)[0].name, 8, 4});
       ResolvedSpec r = resolveSpec(capped.name + ":" + at4, glLimits());

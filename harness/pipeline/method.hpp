@@ -79,11 +79,13 @@ struct ReferenceBudget {
 };
 // One brute-force baseline: the reference method in one of its ladder series (a name from
 // qualitySeries(effects), e.g. "uniform", "equiangular") at `steps` samples per camera ray and, for
-// area lights, `lightSamples` points on the light (0: the method's default).
+// area lights, `lightSamples` points on the light (0: the method's default); with volume data,
+// `lightRaySteps` per voxel of the nested march towards the light.
 struct BaselinePoint {
   std::string series;
   int steps = 0;
   int lightSamples = 0;
+  double lightRaySteps = 0;  // volume data: steps per voxel of the march towards the light (0: the default)
 };
 
 class Method {

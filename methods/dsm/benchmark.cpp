@@ -62,7 +62,7 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
               "channel's transmittance T^ratio) is only an approximation; `channels=3` (the default `auto` here) "
               "generates and reads one map per channel. Times: median [range] over %d rounds in turn.\n\n", rounds);
   Scene scene = twoColourScene();
-  Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2", limits, w, h, 0, nullptr, scatterMsOf);
+  Measured ref = measure(scene, referenceSpec(scene), limits, w, h, 0, nullptr, scatterMsOf);
   if (!ref.ok) return;
   std::printf("| setting | channels | L_s relMSE | L relMSE | DSM Generation ms | Volume March ms | scattering ms |\n"
               "|---|---|---|---|---|---|---|\n");
@@ -83,42 +83,92 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
   }
 }
 
-}  // namespace
+// What every section shares.
+struct Bench {
+  const gl::Limits& limits;
+  int w, h, sw, sh, frames, rounds;
+  bool quick;
+};
 
-int main(int argc, char** argv) {
-  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
-  bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-  bool colouredOnly = argc > 1 && std::strcmp(argv[1], "--coloured") == 0;
-  if (argc > 2 || (argc > 1 && !quick && !colouredOnly)) {
-    std::fprintf(stderr, "usage: dsm_benchmark [--seed N] [--quick | --coloured]\n");
-    return 2;
-  }
-  int w = quick ? 96 : 384, h = quick ? 72 : 288;
-  int sw = quick ? 64 : 192, sh = quick ? 48 : 144;
-  int frames = quick ? 1 : 3, rounds = quick ? 1 : 3;
-  BenchmarkSession session(common);
-  const gl::Limits& limits = session.limits();
-  if (colouredOnly) {
-    std::printf("# dsm: coloured shadows, measured\n\n");
-    std::printf("Regenerate: `scripts/reproduce dsm` (two processes of `dsm_benchmark --coloured` with "
-                "different seeds, merged; under a minute each on 2 cores).\n\n");
-    std::printf("%s", session.preamble("- ").c_str());
-    std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
-    std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light)\n");
-    colouredShadows(limits, sw, sh, frames, rounds);
-    std::printf("\n%s", session.driftSummary("- ").c_str());
-    return 0;
-  }
-  std::printf("# dsm: deep shadow maps, measured\n\n");
-  std::printf("Regenerate: `scripts/reproduce dsm` (two processes of `dsm_benchmark` with different seeds, merged; about "
-              "8 minutes each on 2 cores).\n\n");
-  std::printf("%s", session.preamble("- ").c_str());
-  std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(frames).c_str());
-  std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
-  std::printf("- scattering time: DSM Generation + Volume March (dsm), Ray Marching (raymarch); the shared\n"
-              "  passes and dsm's Surface Shadows are listed apart\n\n");
+// The matches' grid of one scene: step counts (factors of sqrt 2 from 16), light steps per voxel and,
+// for point lights, uniform and equiangular sampling, each a frame without a warm-up. Each column
+// stops at the first step count that reaches every rung's error (down to `lowest`), or that costs
+// more than a grid setting that did: no slower setting can be a match, nor its `at least`.
+struct Grid {
+  std::vector<Measured> baselines;
+  std::vector<std::string> specs;
+};
+Grid baselineGrid(const Bench& b, const Scene& scene, Runner& gridRunner, const Image& reference, double lowest) {
+  Grid g;
+  double servesAll = 1e300;
+  for (double vsteps : {0.25, 0.5, 1.0})
+    for (const char* sampling : {"uniform", "equiangular"}) {
+      if (scene.light.type == LightType::Directional && std::string(sampling) == "equiangular") continue;
+      for (double steps = 16; steps <= (b.quick ? 64 : 1100); steps *= std::sqrt(2.0)) {
+        BaselinePoint point{sampling, int(std::lround(steps))};
+        point.lightRaySteps = vsteps;
+        std::string spec = baselineSpec(scene, point);
+        g.baselines.push_back(measureOnce(gridRunner, spec, b.limits, reference, scatterMsOf));
+        g.specs.push_back(spec);
+        const Measured& m = g.baselines.back();
+        if (!m.ok) continue;
+        if (m.relmse <= lowest) servesAll = std::min(servesAll, m.scatterMs);
+        if (m.relmse <= lowest || m.scatterMs > servesAll) break;
+      }
+    }
+  return g;
+}
 
-  // ---- 1. Equal quality on cloud (and volumes)
+// The timed rounds of dsm at its defaults and of their match, per scene (the pass breakdown).
+struct DefaultsRuns {
+  std::map<std::string, std::vector<MethodRun>> dsm, match;
+};
+
+// One rung against the grid: the cheapest grid setting reaching its error, the slowest cheaper one
+// that misses it (`at least`), all three timed in turn.
+void matchRung(const Bench& b, const Scene& scene, const char* name, const std::string& setting, const std::string& label,
+               const Measured& m, const Grid& g, bool isDefaults, DefaultsRuns& defaults) {
+  const char* params = label.c_str();
+  const auto& baselines = g.baselines;
+  int best = -1;
+  for (size_t i = 0; i < baselines.size(); ++i)
+    if (baselines[i].ok && baselines[i].relmse <= m.relmse &&
+        (best < 0 || baselines[i].scatterMs < baselines[size_t(best)].scatterMs))
+      best = int(i);
+  if (best < 0) {
+    std::printf("| %s | %s | %.2e | %.1f | none of the grid reaches it | | | | |\n", name, params, m.relmse, m.scatterMs);
+    return;
+  }
+  int miss = -1;
+  for (size_t i = 0; i < baselines.size(); ++i)
+    if (baselines[i].ok && baselines[i].relmse > m.relmse && baselines[i].scatterMs < baselines[size_t(best)].scatterMs &&
+        (miss < 0 || baselines[i].scatterMs > baselines[size_t(miss)].scatterMs))
+      miss = int(i);
+  std::vector<std::string> specs = {"dsm:" + setting, g.specs[size_t(best)]};
+  if (miss >= 0) specs.push_back(g.specs[size_t(miss)]);
+  auto timed = runInterleaved(scene, specs, b.limits, b.w, b.h, b.frames, b.rounds);
+  std::vector<double> own, base;
+  for (const MethodRun& r : timed[0]) own.push_back(scatterMsOf(r));
+  for (const MethodRun& r : timed[1]) base.push_back(scatterMsOf(r));
+  Spread ratio = ratioSpread(base, own);
+  if (ratio.median <= 0.0) return;
+  Spread ownMs = spreadOfValues(own), baseMs = spreadOfValues(base);
+  if (isDefaults) {
+    defaults.dsm[name] = timed[0];
+    defaults.match[name] = timed[1];
+  }
+  std::printf("| %s | %s | %.2e | %s | %s | %.2e | %s | **%.2fx** [%.2f–%.2f] | %.2fx |\n", name, params, m.relmse,
+              spreadCell(ownMs).c_str(), g.specs[size_t(best)].substr(9).c_str(), baselines[size_t(best)].relmse,
+              spreadCell(baseMs).c_str(), ratio.median, ratio.lo, ratio.hi,
+              // A miss that timed slower than the match in the rounds bounds nothing: the match does.
+              miss >= 0 ? std::min(spreadOf(timed[2], scatterMsOf).median, baseMs.median) / std::max(ownMs.median, 1e-9)
+                        : 0.0);
+  std::fflush(stdout);
+}
+
+// 1. Equal quality on cloud and volumes; returns the defaults' runs for the pass breakdown.
+DefaultsRuns equalQualitySection(const Bench& b) {
+  const int w = b.w, h = b.h, rounds = b.rounds;
   std::printf("## Equal L_s error against nested ray marching, %dx%d\n\n", w, h);
   std::printf("Each dsm setting is matched with the cheapest raymarch whose L_s relMSE is at most dsm's, on a grid of "
               "step counts (factors of sqrt 2 from 16), light steps per voxel (`vsteps` 0.25, 0.5, 1) and, for point "
@@ -133,89 +183,40 @@ int main(int argc, char** argv) {
               rounds);
   std::printf("| scene | dsm params | dsm relMSE | dsm ms | raymarch params | raymarch relMSE | raymarch ms | speedup | at least |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
-  std::map<std::string, std::vector<MethodRun>> defaults, defaultsMatch;  // the defaults' and their match's timed rounds
+  DefaultsRuns defaults;
   std::vector<std::string> ladder = createMethod("dsm")->qualityLadder();
   const size_t defaultsRung = 2;  // the ladder's middle rung spells out the defaults
   ladder.insert(ladder.begin() + defaultsRung + 1, kPaperLayout);
   for (const char* name : {"cloud", "volumes"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, w, h, 0, nullptr, scatterMsOf);
-    if (!ref.ok) return 1;
+    Measured ref = measure(scene, referenceSpec(scene), b.limits, w, h, 0, nullptr, scatterMsOf);
+    if (!ref.ok) continue;
     RunOptions once;
     once.width = w;
     once.height = h;
     once.frames = 1;
     once.warmup = 0;
-    once.seed = session.seed();
-    Runner gridRunner(scene, limits, once);
+    once.seed = BenchmarkSession::current()->seed();
+    Runner gridRunner(scene, b.limits, once);
     std::vector<Measured> rungs;
     double lowest = 1e30;
     for (const std::string& setting : ladder) {
-      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, limits, ref.run.inscatter, scatterMsOf));
+      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, b.limits, ref.run.inscatter, scatterMsOf));
       if (rungs.back().ok) lowest = std::min(lowest, rungs.back().relmse);
     }
-    std::vector<Measured> baselines;
-    std::vector<std::string> baselineSpecs;
-    // The fastest grid setting so far that reaches every rung's error: a slower one can be no rung's
-    // match, nor its `at least` (which costs less than the match), so a column stops there too.
-    double servesAll = 1e300;
-    for (const char* vsteps : {"0.25", "0.5", "1"})
-      for (const char* sampling : {"uniform", "equiangular"}) {
-        if (scene.light.type == LightType::Directional && std::string(sampling) == "equiangular") continue;
-        for (double steps = 16; steps <= (quick ? 64 : 1100); steps *= std::sqrt(2.0)) {
-          std::string spec = "raymarch:steps=" + std::to_string(int(std::lround(steps))) + ":vsteps=" + vsteps +
-                             ":sampling=" + sampling;
-          baselines.push_back(measureOnce(gridRunner, spec, limits, ref.run.inscatter, scatterMsOf));
-          baselineSpecs.push_back(spec);
-          const Measured& b = baselines.back();
-          if (!b.ok) continue;
-          if (b.relmse <= lowest) servesAll = std::min(servesAll, b.scatterMs);
-          if (b.relmse <= lowest || b.scatterMs > servesAll) break;
-        }
-      }
+    Grid grid = baselineGrid(b, scene, gridRunner, ref.run.inscatter, lowest);
     for (size_t r = 0; r < ladder.size(); ++r) {
-      const Measured& m = rungs[r];
+      if (!rungs[r].ok) continue;
       std::string label = r == defaultsRung ? "defaults (" + ladder[r] + ")" : ladder[r];
-      const char* params = label.c_str();
-      if (!m.ok) continue;
-      int best = -1;
-      for (size_t i = 0; i < baselines.size(); ++i)
-        if (baselines[i].ok && baselines[i].relmse <= m.relmse &&
-            (best < 0 || baselines[i].scatterMs < baselines[size_t(best)].scatterMs))
-          best = int(i);
-      if (best < 0) {
-        std::printf("| %s | %s | %.2e | %.1f | none of the grid reaches it | | | | |\n", name, params, m.relmse, m.scatterMs);
-        continue;
-      }
-      // The slowest grid setting that still misses dsm's error and cost less than the match.
-      int miss = -1;
-      for (size_t i = 0; i < baselines.size(); ++i)
-        if (baselines[i].ok && baselines[i].relmse > m.relmse && baselines[i].scatterMs < baselines[size_t(best)].scatterMs &&
-            (miss < 0 || baselines[i].scatterMs > baselines[size_t(miss)].scatterMs))
-          miss = int(i);
-      std::string dsmSpec = "dsm:" + ladder[r];
-      std::vector<std::string> specs = {dsmSpec, baselineSpecs[size_t(best)]};
-      if (miss >= 0) specs.push_back(baselineSpecs[size_t(miss)]);
-      auto timed = runInterleaved(scene, specs, limits, w, h, frames, rounds);
-      std::vector<double> ratios;
-      for (size_t k = 0; k < std::min(timed[0].size(), timed[1].size()); ++k)
-        ratios.push_back(scatterMsOf(timed[1][k]) / std::max(scatterMsOf(timed[0][k]), 1e-9));
-      Spread own = spreadOf(timed[0], scatterMsOf), base = spreadOf(timed[1], scatterMsOf);
-      if (ratios.empty()) continue;
-      Spread ratio = spreadOfValues(ratios);
-      if (r == defaultsRung) {
-        defaults[name] = timed[0];
-        defaultsMatch[name] = timed[1];
-      }
-      std::printf("| %s | %s | %.2e | %s | %s | %.2e | %s | **%.2fx** [%.2f–%.2f] | %.2fx |\n", name, params, m.relmse,
-                  spreadCell(own).c_str(), baselineSpecs[size_t(best)].substr(9).c_str(), baselines[size_t(best)].relmse,
-                  spreadCell(base).c_str(), ratio.median, ratio.lo, ratio.hi,
-                  // A miss that timed slower than the match in the rounds bounds nothing: the match does.
-                  miss >= 0 ? std::min(spreadOf(timed[2], scatterMsOf).median, base.median) / std::max(own.median, 1e-9)
-                            : 0.0);
-      std::fflush(stdout);
+      matchRung(b, scene, name, ladder[r], label, rungs[r], grid, r == defaultsRung, defaults);
     }
   }
+  return defaults;
+}
+
+void passBreakdownSection(DefaultsRuns& d) {
+  auto& defaults = d.dsm;
+  auto& defaultsMatch = d.match;
   std::printf("\nPass breakdown of dsm at its defaults (ms, median [range] over the rounds above). Throughput: dsm's "
               "voxel samples per second in DSM Generation, beside the camera-ray samples per second of the raymarch "
               "that matched the defaults (each of its samples also marches the volume towards the light): \n\n");
@@ -229,8 +230,12 @@ int main(int argc, char** argv) {
                 spreadOf(runs, [](const MethodRun& run) { return stat(run, "dsm_voxel_samples_per_s"); }).median,
                 spreadOf(defaultsMatch[name], [](const MethodRun& run) { return stat(run, "shadow_map_samples_per_s"); }).median);
   }
+}
 
-  // ---- 2. Error against the knobs
+// 2. Error against the knobs.
+void knobsSection(const Bench& b) {
+  const gl::Limits& limits = b.limits;
+  const int sw = b.sw, sh = b.sh, frames = b.frames;
   std::printf("\n## L_s relMSE against the knobs, %dx%d\n\n", sw, sh);
   std::printf("Each row varies one parameter from the defaults (res=512, gen_step=0.5 voxels, gen_steps=512, view_steps=128, "
               "haze_steps=64, knots=3, segments=exponential, thresholds=relative, interp=linear, filter=hardware).\n\n");
@@ -251,8 +256,8 @@ int main(int argc, char** argv) {
   std::map<std::string, std::pair<Scene, Image>> refs;
   for (const char* name : {"volumes", "cloud"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, "raymarch:steps=4096:vsteps=2:sampling=equiangular", limits, sw, sh, 0, nullptr, scatterMsOf);
-    if (!ref.ok) return 1;
+    Measured ref = measure(scene, referenceSpec(scene), limits, sw, sh, 0, nullptr, scatterMsOf);
+    if (!ref.ok) continue;
     refs.emplace(name, std::make_pair(scene, ref.run.inscatter));
   }
   for (const auto& knob : knobs)
@@ -267,9 +272,13 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
 
-  std::printf("\nColoured shadows (one map or one per colour channel): `dsm_benchmark --coloured`, results/dsm/coloured.md.\n");
+}
 
-  // ---- 3. The paper's data sets
+// 3. The paper's data sets.
+void dataSetsSection(const Bench& b) {
+  const gl::Limits& limits = b.limits;
+  const int frames = b.frames;
+  const bool quick = b.quick;
   std::printf("\n## The paper's data sets (512² DSM, steps of half a voxel up to 512, 128 view steps, the paper's 3 knots, smoothstep), %dx%d\n\n",
               quick ? 96 : 512, quick ? 96 : 512);
   std::printf("Shook reports 180-330 fps (3.0-5.6 ms per frame) for these on a GTX 465 (DirectX 9).\n\n");
@@ -288,6 +297,45 @@ int main(int argc, char** argv) {
                 stat(m.run, "dsm_voxel_samples_per_s"));
     std::fflush(stdout);
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchmarkOptions common = takeBenchmarkOptions(argc, argv);
+  bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool colouredOnly = argc > 1 && std::strcmp(argv[1], "--coloured") == 0;
+  if (argc > 2 || (argc > 1 && !quick && !colouredOnly)) {
+    std::fprintf(stderr, "usage: dsm_benchmark [--seed N] [--quick | --coloured]\n");
+    return 2;
+  }
+  BenchmarkSession session(common);
+  const Bench b{session.limits(), quick ? 96 : 384, quick ? 72 : 288, quick ? 64 : 192, quick ? 48 : 144,
+                quick ? 1 : 3, quick ? 1 : 3, quick};
+  if (colouredOnly) {
+    std::printf("# dsm: coloured shadows, measured\n\n");
+    std::printf("Regenerate: `scripts/reproduce dsm` (two processes of `dsm_benchmark --coloured` with "
+                "different seeds, merged; under a minute each on 2 cores).\n\n");
+    std::printf("%s", session.preamble("- ").c_str());
+    std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(b.frames).c_str());
+    std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light)\n");
+    colouredShadows(b.limits, b.sw, b.sh, b.frames, b.rounds);
+    std::printf("\n%s", session.driftSummary("- ").c_str());
+    return 0;
+  }
+  std::printf("# dsm: deep shadow maps, measured\n\n");
+  std::printf("Regenerate: `scripts/reproduce dsm` (two processes of `dsm_benchmark` with different seeds, merged; about "
+              "8 minutes each on 2 cores).\n\n");
+  std::printf("%s", session.preamble("- ").c_str());
+  std::printf("- timer: wall clock around each pass (glFinish), %s\n", benchmarkFramesNote(b.frames).c_str());
+  std::printf("- reference: raymarch steps=4096, vsteps=2 (nested march towards the light), same shadow map\n");
+  std::printf("- scattering time: DSM Generation + Volume March (dsm), Ray Marching (raymarch); the shared\n"
+              "  passes and dsm's Surface Shadows are listed apart\n\n");
+  DefaultsRuns defaults = equalQualitySection(b);
+  passBreakdownSection(defaults);
+  knobsSection(b);
+  std::printf("\nColoured shadows (one map or one per colour channel): `dsm_benchmark --coloured`, results/dsm/coloured.md.\n");
+  dataSetsSection(b);
   std::printf("\n%s", session.driftSummary("- ").c_str());
   return 0;
 }

@@ -269,7 +269,7 @@ void ismErrorSection(const Bench& b) {
   const int w = b.w, h = b.h;
   const std::string& imageDir = b.imageDir;
   if (!imageDir.empty()) {
-    Measured same = measure(scene, "raymarch:steps=64:sampling=equiangular:vpls=64:sm=512", limits, w, h, 0, nullptr);
+    Measured same = measure(scene, baselineSpec(scene, {"equiangular", 64}, "vpls=64:sm=512"), limits, w, h, 0, nullptr);
     std::printf("\n## The ISM's holes and leaks\n\n");
     std::printf("|L_s| difference between ivsv (64 VPLs) and raymarch on the same 64 VPLs with cube shadow maps, so "
                 "only visibility differs; full scale = 2 %% of the reference's peak.\n\n");

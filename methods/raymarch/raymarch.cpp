@@ -1,7 +1,10 @@
 #include "raymarch.hpp"
-#include "registry.hpp"
+
+#include <cstdio>
 
 #include <glm/gtc/type_ptr.hpp>
+
+#include "registry.hpp"
 
 #include "harness/pipeline/vpl.hpp"
 
@@ -87,7 +90,13 @@ std::string RaymarchMethod::referenceParams(const Effects& effects, const Refere
 // The series are qualitySeries()'s: uniform steps (the papers' brute force), equiangular steps.
 std::string RaymarchMethod::baselineParams(const BaselinePoint& point) const {
   if (point.series != "uniform" && point.series != "equiangular") return "";
-  std::string params = "steps=" + std::to_string(point.steps) + ":sampling=" + point.series;
+  std::string params = "steps=" + std::to_string(point.steps);
+  if (point.lightRaySteps > 0) {
+    char vsteps[32];
+    std::snprintf(vsteps, sizeof vsteps, "%g", point.lightRaySteps);
+    params += std::string(":vsteps=") + vsteps;
+  }
+  params += ":sampling=" + point.series;
   if (point.lightSamples > 0) params += ":light_samples=" + std::to_string(point.lightSamples);
   return params;
 }
