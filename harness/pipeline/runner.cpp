@@ -404,6 +404,18 @@ MethodRun Runner::run(Method& method, const ParamValues& params, const std::func
   return result;
 }
 
+MethodRun Runner::run(Method& method, const ParamValues& params, const FrameSchedule& schedule,
+                     const std::function<void(int, int)>& progress) {
+  const FrameSchedule own = FrameSchedule::of(options_);
+  schedule.applyTo(options_);
+  struct Restore {
+    RunOptions& options;
+    FrameSchedule saved;
+    ~Restore() { saved.applyTo(options); }
+  } restore{options_, own};
+  return run(method, params, progress);
+}
+
 ResolvedSpec resolveSpec(const std::string& text, const gl::Limits& limits, const MethodRegistry& registry) {
   MethodSpec spec = parseMethodSpec(text);
   auto method = createMethod(registry, spec.method);

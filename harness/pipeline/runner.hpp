@@ -33,6 +33,21 @@ struct RunOptions {
   bool sequence = false;
 };
 
+// The per-run part of RunOptions: how many frames a run renders and what it reads back.
+struct FrameSchedule {
+  int frames = 20, warmup = 3;
+  double minTimeMs = 0;
+  bool workCounters = false, sequence = false;
+  static FrameSchedule of(const RunOptions& o) { return {o.frames, o.warmup, o.minTimeMs, o.workCounters, o.sequence}; }
+  void applyTo(RunOptions& o) const {
+    o.frames = frames;
+    o.warmup = warmup;
+    o.minTimeMs = minTimeMs;
+    o.workCounters = workCounters;
+    o.sequence = sequence;
+  }
+};
+
 enum class RunStatus { Success, Unsupported, Failure };
 const char* runStatusName(RunStatus s);
 
@@ -82,6 +97,10 @@ class Runner {
   // Failure row with the reason; an unsupported scene becomes an Unsupported row.
   // progress(frame, total) is called after each frame.
   MethodRun run(Method& method, const ParamValues& params, const std::function<void(int, int)>& progress = {});
+  // The same with this run's frames and read-backs instead of the runner's options: one runner
+  // per scene state serves a row's first round and its later ones, a baseline's error and its time.
+  MethodRun run(Method& method, const ParamValues& params, const FrameSchedule& schedule,
+                const std::function<void(int, int)>& progress = {});
   // Why `method` cannot run this scene with `params` (empty if it can). With vpls = N > 0 the
   // method runs behind the per-VPL wrapper: once per virtual point light of the scene's area
   // light, L_s summed (passes "VPL Shadow Maps" and "VPL Accumulation" are the wrapper's).

@@ -8,19 +8,16 @@
 namespace vs::shootout {
 
 RenderedBaseline::RenderedBaseline(const RunPlan& plan, const gl::Limits& limits, const MethodRegistry& registry,
-                                   RunOptions options, const Image& truth)
-    : limits_(limits), registry_(registry), truth_(truth) {
-  options.workCounters = false;
-  RunOptions timed = options;
-  timed.frames = std::min(options.frames, 2);
-  timed.warmup = 1;
-  timeRunner_ = std::make_unique<Runner>(plan.scene, limits, timed);
-  RunOptions once = options;
-  once.frames = 1;
-  once.warmup = 0;
-  once.minTimeMs = 0;
-  // The error of a baseline point: one still frame of the scene as the rows' compared frame shows it.
-  errorRunner_ = std::make_unique<Runner>(plan.stillScene(), limits, once);
+                                   const RunOptions& options, const Image& truth, Runner& scene, Runner& still)
+    : limits_(limits), registry_(registry), truth_(truth), sceneRunner_(scene), stillRunner_(still) {
+  timed_ = FrameSchedule::of(options);
+  timed_.workCounters = timed_.sequence = false;
+  timed_.frames = std::min(options.frames, 2);
+  timed_.warmup = 1;
+  once_ = timed_;
+  once_.frames = 1;
+  once_.warmup = 0;
+  once_.minTimeMs = 0;
   method_ = referenceMethodFor(plan.effects, registry).name;
   baselineMethod_ = createMethod(registry, method_);
   // The samplings it is matched with: the reference method's ladder series that it offers as
@@ -35,7 +32,7 @@ std::string RenderedBaseline::spec(const std::string& sampling, int sm, int step
 }
 
 BaselineError RenderedBaseline::error(const std::string& sampling, int sm, int steps) {
-  MethodRun r = run(*errorRunner_, sampling, sm, steps);
+  MethodRun r = run(stillRunner_, once_, sampling, sm, steps);
   BaselineError p;
   if (r.status == RunStatus::Success) {
     p.ok = true;
@@ -47,14 +44,15 @@ BaselineError RenderedBaseline::error(const std::string& sampling, int sm, int s
 }
 
 double RenderedBaseline::time(const std::string& sampling, int sm, int steps) {
-  MethodRun r = run(*timeRunner_, sampling, sm, steps);
+  MethodRun r = run(sceneRunner_, timed_, sampling, sm, steps);
   return r.status == RunStatus::Success ? r.scatterMs() : -1.0;
 }
 
-MethodRun RenderedBaseline::run(Runner& runner, const std::string& sampling, int sm, int steps) {
+MethodRun RenderedBaseline::run(Runner& runner, const FrameSchedule& schedule, const std::string& sampling, int sm,
+                                int steps) {
   ResolvedSpec spec = resolveSpec(this->spec(sampling, sm, steps), limits_, registry_);
   auto method = createMethod(registry_, method_);
-  return runner.run(*method, spec.params);
+  return runner.run(*method, spec.params, schedule);
 }
 
 std::string EqualQuality::describe(const std::string& sampling, int sm, int steps) const {
@@ -123,8 +121,9 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
   return out;
 }
 
-std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const MethodRegistry& registry,
-                                         const gl::Limits& limits, EqualQuality& eq, int sm, Progress& progress) {
+std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const FrameSchedule& schedule,
+                                         const MethodRegistry& registry, const gl::Limits& limits, EqualQuality& eq,
+                                         int sm, Progress& progress) {
   std::vector<double> ms;
   for (const auto& b : matches.baselines) {
     if (!b.match.reached) {
@@ -134,7 +133,7 @@ std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runn
     progress.note("equal quality: timing " + b.spec);
     ResolvedSpec spec = resolveSpec(b.spec, limits, registry);
     auto method = createMethod(registry, spec.method);
-    MethodRun run = runner.run(*method, spec.params);
+    MethodRun run = runner.run(*method, spec.params, schedule);
     // A round whose run failed keeps the rounds aligned with the search's own timing of the match.
     ms.push_back(run.status == RunStatus::Success ? run.scatterMs()
                                                   : std::max(eq.timeAt(b.sampling, sm, b.match.steps), 0.0));

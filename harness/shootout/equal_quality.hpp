@@ -40,12 +40,13 @@ class BaselineSource {
   virtual double time(const std::string& sampling, int sm, int steps) = 0;  // scattering ms; negative: failed
 };
 
-// The reference method of the plan's effects, rendered through its own runners, its L_s compared
-// with `truth` (one still frame of the scene as the rows' compared frame shows it).
+// The reference method of the plan's effects, rendered on the rows' runners, its L_s compared
+// with `truth`: its errors from one frame of `still` (the scene as the rows' compared frame shows
+// it; the rows' own runner for a still scene), its times on `scene` after a warm-up frame.
 class RenderedBaseline : public BaselineSource {
  public:
-  RenderedBaseline(const RunPlan& plan, const gl::Limits& limits, const MethodRegistry& registry, RunOptions options,
-                   const Image& truth);
+  RenderedBaseline(const RunPlan& plan, const gl::Limits& limits, const MethodRegistry& registry,
+                   const RunOptions& options, const Image& truth, Runner& scene, Runner& still);
   const std::string& method() const override { return method_; }
   const std::vector<std::string>& samplings() const override { return samplings_; }
   std::string spec(const std::string& sampling, int sm, int steps) const override;
@@ -53,12 +54,13 @@ class RenderedBaseline : public BaselineSource {
   double time(const std::string& sampling, int sm, int steps) override;
 
  private:
-  MethodRun run(Runner& runner, const std::string& sampling, int sm, int steps);
+  MethodRun run(Runner& runner, const FrameSchedule& schedule, const std::string& sampling, int sm, int steps);
 
   const gl::Limits& limits_;
   const MethodRegistry& registry_;
   const Image& truth_;
-  std::unique_ptr<Runner> timeRunner_, errorRunner_;
+  Runner &sceneRunner_, &stillRunner_;
+  FrameSchedule timed_, once_;
   std::string method_;
   std::unique_ptr<Method> baselineMethod_;
   std::vector<std::string> samplings_;
@@ -118,8 +120,9 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan);
 // Times each reached baseline of a row once more, as the rows are timed: the speedups are ratios
 // of figures measured side by side in every round (a baseline never reached keeps the bisection's
 // time, a lower bound). Returns this round's time per baseline of `matches` (0 for one not reached).
-std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const MethodRegistry& registry,
-                                         const gl::Limits& limits, EqualQuality& eq, int sm, Progress& progress);
+std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const FrameSchedule& schedule,
+                                         const MethodRegistry& registry, const gl::Limits& limits, EqualQuality& eq,
+                                         int sm, Progress& progress);
 
 // Fills the equal-quality columns of a successful row from its matches and the rounds' times
 // (`rowRoundMs`: the row's scattering time per round).

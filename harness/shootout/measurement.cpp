@@ -25,10 +25,15 @@ Measurement::Measurement(const RowContext& rows, const MethodRegistry& registry,
       firsts_(rows.plan.jobs.size()), timings_(rows.plan.jobs.size()), matches_(rows.plan.jobs.size()),
       drift_(rows.plan.jobs.size()), sequenceMetrics_(rows.plan.jobs.size()) {
   const RunPlan& plan = rows.plan;
+  later_ = FrameSchedule::of(options);
+  later_.workCounters = later_.sequence = false;
   if (rows.req.equalQuality && plan.haveReference && plan.effects.scattering) {
     const Image& truth = plan.equalQualityExact ? rows.base.exact.inscatter : rows.base.reference.inscatter;
+    if (plan.movedScene) stillRunner_ = std::make_unique<Runner>(plan.stillScene(), limits, options);
     equalQuality_ = std::make_unique<EqualQuality>(
-        std::make_unique<RenderedBaseline>(plan, limits, registry, options, truth), progress);
+        std::make_unique<RenderedBaseline>(plan, limits, registry, options, truth, runner_,
+                                           stillRunner_ ? *stillRunner_ : runner_),
+        progress);
   }
 }
 
@@ -76,17 +81,6 @@ nlohmann::json Measurement::driftJson() const {
           {"disturbed_rows", disturbedRows}};
 }
 
-// Later rounds and repeated ones only time: no images, errors or work counters (those come from
-// the first). Made when first needed: a scene's geometry is uploaded once more.
-Runner& Measurement::laterRunner() {
-  if (!laterRunner_) {
-    RunOptions later = options_;
-    later.workCounters = false;
-    laterRunner_ = std::make_unique<Runner>(rows_.plan.scene, limits_, later);
-  }
-  return *laterRunner_;
-}
-
 CalibrationProbe& Measurement::probe() {
   if (!probe_) probe_ = std::make_unique<CalibrationProbe>();
   return *probe_;
@@ -109,10 +103,10 @@ void Measurement::measureRound(size_t j, int round) {
       kept = first.run;
     } else {
       auto method = createMethod(registry_, job.method);
-      kept = laterRunner().run(*method, job.params, [&](int done, int total) { progress_.frames(done, total); });
+      kept = runner_.run(*method, job.params, later_, [&](int done, int total) { progress_.frames(done, total); });
     }
     if (equalQuality_)
-      baselineMs = timeMatchedBaselines(matches_[j], laterRunner(), registry_, limits_, *equalQuality_,
+      baselineMs = timeMatchedBaselines(matches_[j], runner_, later_, registry_, limits_, *equalQuality_,
                                         first.run.shadowMapSize, progress_);
     return kept.status == RunStatus::Success;
   });

@@ -33,7 +33,6 @@ class Measurement {
   nlohmann::json driftJson() const;
 
  private:
-  Runner& laterRunner();
   CalibrationProbe& probe();
   void measureRound(size_t j, int round);
   void warnOfDrift();
@@ -51,8 +50,12 @@ class Measurement {
   Progress& progress_;
   RunOptions options_;
   bool sequence_;  // a moving scene with a reference: errors over every measured frame
+  // One runner per scene state: the scene, and for a moving scene its compared frame held still
+  // (the equal-quality baselines' errors). Later rounds and repeated ones only time: no images,
+  // errors, work counters or sequence (those come from the first).
   Runner runner_;
-  std::unique_ptr<Runner> laterRunner_;
+  std::unique_ptr<Runner> stillRunner_;
+  FrameSchedule later_;
   std::unique_ptr<EqualQuality> equalQuality_;
   std::unique_ptr<CalibrationProbe> probe_;
   DriftGuard guard_;

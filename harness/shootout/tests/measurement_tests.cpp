@@ -41,7 +41,8 @@ TEST_F(ShootoutStagesTest, RenderedBaselineOffersBothSamplingsAndErrorFallsWithS
   RunPlan p = plan(r);
   RunOptions options = runOptionsFor(r, p, TimerStrategy::WallClock);
   Image truth = renderScene(p.scene, "raymarch:steps=512:sm=256", options).inscatter;
-  RenderedBaseline baseline(p, limits(), registeredMethods(), options, truth);
+  Runner runner(p.scene, limits(), options);
+  RenderedBaseline baseline(p, limits(), registeredMethods(), options, truth, runner, runner);
   EXPECT_EQ(baseline.method(), "raymarch");
   EXPECT_EQ(baseline.samplings(), (std::vector<std::string>{"uniform", "equiangular"}));
   EXPECT_EQ(baseline.spec("uniform", 256, 64).rfind("raymarch:", 0), 0u);
@@ -50,6 +51,33 @@ TEST_F(ShootoutStagesTest, RenderedBaselineOffersBothSamplingsAndErrorFallsWithS
   ASSERT_TRUE(coarse.ok && fine.ok);
   EXPECT_LT(fine.lsRelmse, coarse.lsRelmse);
   EXPECT_GE(baseline.time("uniform", 256, 16), 0.0);
+}
+
+// The rows' runner serves the baselines too: a baseline point rendered after another method and
+// after a timed run with other frame counts is the one a runner of its own renders.
+TEST_F(ShootoutStagesTest, OneRunnerServesRowsAndBaselinesAlike) {
+  RunRequest r = request();
+  RunPlan p = plan(r);
+  RunOptions options = runOptionsFor(r, p, TimerStrategy::WallClock);
+  Image truth = renderScene(p.scene, "raymarch:steps=512:sm=256", options).inscatter;
+  Runner fresh(p.scene, limits(), options);
+  RenderedBaseline alone(p, limits(), registeredMethods(), options, truth, fresh, fresh);
+  const BaselineError expected = alone.error("equiangular", 256, 24);
+  Runner shared(p.scene, limits(), options);
+  auto minmax = createMethod(registeredMethods(), "minmax");
+  ResolvedSpec spec = resolveSpec("minmax:sm=256", limits(), registeredMethods());
+  FrameSchedule longer = FrameSchedule::of(options);
+  longer.frames = 3;
+  longer.warmup = 2;
+  ASSERT_EQ(shared.run(*minmax, spec.params, longer).status, RunStatus::Success);
+  EXPECT_EQ(shared.options().frames, options.frames) << "the schedule is the run's alone";
+  EXPECT_EQ(shared.options().warmup, options.warmup);
+  RenderedBaseline reused(p, limits(), registeredMethods(), options, truth, shared, shared);
+  EXPECT_GE(reused.time("equiangular", 256, 24), 0.0);
+  const BaselineError got = reused.error("equiangular", 256, 24);
+  ASSERT_TRUE(expected.ok && got.ok);
+  EXPECT_DOUBLE_EQ(got.lsRelmse, expected.lsRelmse);
+  EXPECT_DOUBLE_EQ(got.lsRmse, expected.lsRmse);
 }
 
 TEST_F(ShootoutStagesTest, EveryJobMeasuredInEveryRound) {
