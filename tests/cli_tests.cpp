@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -316,6 +317,39 @@ TEST(CliTest, FroxelVerdictComparesEveryMethodAtFroxelsErrorAndTime) {
   EXPECT_NE(verdict.find("- **spheres**: "), std::string::npos) << verdict;
   EXPECT_NE(verdict.find("froxel wins at equal error on "), std::string::npos) << verdict;
   EXPECT_NE(verdict.find("minmax"), std::string::npos) << verdict;
+  // Across processes: the same runs twice name the same winners; a second process in which froxel
+  // ran 1000x slower names another method at froxel's error, so that scene is too close to call.
+  std::filesystem::create_directories(dir + "/p1");
+  std::filesystem::create_directories(dir + "/p2");
+  std::filesystem::copy(dir + "/out", dir + "/p1/spheres", std::filesystem::copy_options::recursive);
+  std::filesystem::copy(dir + "/out", dir + "/p2/spheres", std::filesystem::copy_options::recursive);
+  const std::string same = std::string(VS_SOURCE_DIR) + "/scripts/froxel-verdict --processes " + dir + "/p1 " + dir + "/p2";
+  cmd = same + " > " + dir + "/same.md 2> " + dir + "/same.err";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/same.err");
+  const std::string agreed = readFile(dir + "/same.md");
+  EXPECT_NE(agreed.find("- **spheres**: "), std::string::npos) << agreed;
+  EXPECT_EQ(agreed.find("too close to call at its error"), std::string::npos) << agreed;
+  EXPECT_NE(agreed.find("too close to call on 0"), std::string::npos) << agreed;
+  {
+    std::vector<std::vector<std::string>> rows = CsvTable::parse(readFile(dir + "/p2/spheres/runs.csv"));
+    ASSERT_FALSE(rows.empty());
+    const std::vector<std::string>& header = rows[0];
+    const size_t method = size_t(std::find(header.begin(), header.end(), "method") - header.begin());
+    const size_t ms = size_t(std::find(header.begin(), header.end(), "scatter_ms") - header.begin());
+    ASSERT_LT(ms, header.size());
+    std::string text;
+    for (auto& cells : rows) {
+      if (&cells != &rows[0] && cells.size() == header.size() && cells[method] == "froxel" && !cells[ms].empty())
+        cells[ms] = std::to_string(std::stod(cells[ms]) * 1000.0);
+      text += CsvTable::format(cells) + "\n";
+    }
+    std::ofstream(dir + "/p2/spheres/runs.csv") << text;
+  }
+  cmd = same + " > " + dir + "/split.md 2> " + dir + "/split.err";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readFile(dir + "/split.err");
+  const std::string split = readFile(dir + "/split.md");
+  EXPECT_NE(split.find("too close to call at its error (the processes name "), std::string::npos) << split;
+  EXPECT_NE(split.find("too close to call on 1 (spheres)"), std::string::npos) << split;
   // Without froxel rows there is no yardstick: one line, exit 1.
   CommandResult other = runVshadow({"shootout", "--scene", "spheres", "--size", "16x12", "--frames", "1", "--warmup", "0",
                                     "--rungs", "first", "--method", "minmax", "--no-images", "--out", dir + "/other",
