@@ -390,5 +390,63 @@ TEST_F(MergeTest, BadInputsWriteNothing) {
   EXPECT_FALSE(fs::exists(merged));
 }
 
+// A shard run with other settings than the sweep now defines is not merged: it is named to rerun.
+TEST_F(MergeTest, StaleShardIsNamedToRerun) {
+  std::string out = copy("stale");
+  std::string markerPath = out + "/spheres-16x16-s2-raymarch_steps-4/shard.json";
+  json marker = json::parse(readFile(markerPath));
+  marker["definition"] = "0000000000000000";
+  writeFile(markerPath, marker.dump());
+  std::string merged = out + "-merged";
+  CommandResult r = merge(entries(out), merged);
+  EXPECT_EQ(r.exitCode, 3);
+  EXPECT_NE(r.err.find("failed shard spheres-16x16-s2-raymarch_steps-4: run with other settings than the sweep now "
+                       "defines (rerun it)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(csvRows(merged + "/runs.csv").size(), 2u);  // the header and the other shard's row
+  json meta = json::parse(readFile(merged + "/meta.json"));
+  EXPECT_EQ(meta["status"], "incomplete");
+  EXPECT_EQ(meta["failed"][0]["id"], "spheres-16x16-s2-raymarch_steps-4");
+}
+
+// Result folders without a shard marker: their meta.json says whether they finished, a row in two
+// of them is refused, failure rows are counted, folders of neither kind are skipped.
+TEST_F(MergeTest, PlainResultFoldersAreCheckedToo) {
+  std::string dir = makeTempDir("sweep-merge-plain");
+  std::string a = dir + "/a", b = dir + "/b";
+  fs::copy(out_ + "/spheres-16x16-s2-raymarch_steps-4", a);
+  fs::remove(a + "/shard.json");
+  fs::copy(a, b);
+  fs::create_directory(dir + "/neither");
+  writeFile(dir + "/notes.txt", "not a sweep\n");
+
+  CommandResult r = merge({a, b}, dir + "/twice");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find(" is in both a and b"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/twice"));
+  r = merge({a, dir + "/notes.txt"}, dir + "/txt");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("notes.txt: not a result folder or sweep file"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/txt"));
+
+  json meta = json::parse(readFile(b + "/meta.json"));
+  meta["status"] = "failed";
+  writeFile(b + "/meta.json", meta.dump());
+  auto runs = csvRows(a + "/runs.csv");
+  runs[1][column(runs[0], "status")] = "Failure";
+  writeFile(a + "/runs.csv", CsvTable::format(runs[0]) + CsvTable::format(runs[1]));
+  r = merge({a, b, dir + "/neither"}, dir + "/merged");
+  EXPECT_EQ(r.exitCode, 3);
+  EXPECT_NE(r.err.find("skipping " + dir + "/neither: neither a shard nor a result folder"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("shard a: 1 row(s) are failures"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("failed shard b: meta.json does not say finished"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("merged 1 of 2 shard(s), 1 rows"), std::string::npos) << r.out;
+  json merged = json::parse(readFile(dir + "/merged/meta.json"));
+  EXPECT_EQ(merged["shards"][0]["failure_rows"], 1);
+  EXPECT_EQ(merged["missing"], json::array());
+}
+
 }  // namespace
 }  // namespace vs::testing
