@@ -785,12 +785,38 @@ class Viewer {
     gl::resetPipelineState();
   }
 
+  // The panel, top to bottom: what is shown, playback, status, timings, parameters, camera and
+  // light, the save buttons.
   void drawPanel(int height) {
     ImGui::SetNextWindowPos(ImVec2(0, 0));
     ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(height)));
     ImGui::Begin("vshadow", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::Text("scene %s  %dx%d", scene_.name.c_str(), options_.width, options_.height);
     ImGui::TextWrapped("effects: %s", runner_->effects().describe().c_str());
+    drawMethodAndMode();
+    if (mode_ == ViewMode::Buffers) drawBufferChoice();
+    if (moves()) drawPlayback();
+    if (ImGui::SliderFloat("exposure", &exposure_, 1e-4f, 1e4f, "%.4g", ImGuiSliderFlags_Logarithmic)) {
+      exposureManual_ = exposureSet_ = true;
+      shownValid_ = false;
+    }
+    drawStatus();
+    if (ImGui::CollapsingHeader("timings (median of the last 30 frames)", ImGuiTreeNodeFlags_DefaultOpen) && timer_)
+      drawTimings();
+    if (ImGui::CollapsingHeader("parameters", ImGuiTreeNodeFlags_DefaultOpen)) drawParams();
+    if (ImGui::CollapsingHeader("camera and light")) drawCameraAndLight();
+    try {
+      if (ImGui::Button("screenshot (P)")) screenshot(nextName(".png"));
+      ImGui::SameLine();
+      if (ImGui::Button("save scene (J)")) saveScene(nextName(".json"));
+    } catch (const std::exception& e) {
+      statusText_ = oneLine(e.what());
+    }
+    ImGui::End();
+  }
+
+  // The method (keys 1-9) and the view mode (F, L, R, E, B).
+  void drawMethodAndMode() {
     if (ImGui::BeginCombo("method", (std::to_string(current_ + 1) + " " + slot().name).c_str())) {
       for (int i = 0; i < int(slots_.size()); ++i)
         if (ImGui::Selectable((std::to_string(i + 1) + " " + slots_[size_t(i)].name).c_str(), i == current_)) selectMethod(i);
@@ -805,73 +831,70 @@ class Viewer {
       }
       if (i % 3 != 2 && i != 4) ImGui::SameLine();
     }
-    if (mode_ == ViewMode::Buffers) {
-      auto views = debugViews();
-      if (!views.empty()) {
-        int index = ((debugIndex_ % int(views.size())) + int(views.size())) % int(views.size());
-        if (ImGui::BeginCombo("buffer", views[size_t(index)].name.c_str())) {
-          for (int i = 0; i < int(views.size()); ++i)
-            if (ImGui::Selectable(views[size_t(i)].name.c_str(), i == index)) debugIndex_ = i, debugLayer_ = debugLevel_ = 0, shownValid_ = false;
-          ImGui::EndCombo();
-        }
-        const DebugView& v = views[size_t(index)];
-        if (v.layers > 1 && ImGui::SliderInt(v.kind == DebugView::Kind::Bits ? "bit (,/.)" : "layer (,/.)", &debugLayer_, 0, v.layers - 1))
-          shownValid_ = false;
-        if (v.levels > 1 && ImGui::SliderInt("level", &debugLevel_, 0, v.levels - 1)) shownValid_ = false;
+  }
+
+  // Which of the method's buffers, its layer (or bit) and level; then what is shown.
+  void drawBufferChoice() {
+    auto views = debugViews();
+    if (!views.empty()) {
+      int index = ((debugIndex_ % int(views.size())) + int(views.size())) % int(views.size());
+      if (ImGui::BeginCombo("buffer", views[size_t(index)].name.c_str())) {
+        for (int i = 0; i < int(views.size()); ++i)
+          if (ImGui::Selectable(views[size_t(i)].name.c_str(), i == index)) debugIndex_ = i, debugLayer_ = debugLevel_ = 0, shownValid_ = false;
+        ImGui::EndCombo();
       }
-      ImGui::TextWrapped("%s", shown_.label.c_str());
+      const DebugView& v = views[size_t(index)];
+      if (v.layers > 1 && ImGui::SliderInt(v.kind == DebugView::Kind::Bits ? "bit (,/.)" : "layer (,/.)", &debugLayer_, 0, v.layers - 1))
+        shownValid_ = false;
+      if (v.levels > 1 && ImGui::SliderInt("level", &debugLevel_, 0, v.levels - 1)) shownValid_ = false;
     }
-    if (moves()) {
-      const int frames = scene_.animation.frameCount();
-      ImGui::Text("frame %u of %d, t = %.3f s  %s", sequenceFrame_, frames, scene_.animation.timeOf(sequenceFrame_),
-                  playing_ ? "playing" : "paused");
-      if (ImGui::Button(playing_ ? "pause (K)" : "play (K)")) playing_ = !playing_;
-      ImGui::SameLine();
-      if (ImGui::Button("<")) step(-1);
-      ImGui::SameLine();
-      if (ImGui::Button(">")) step(1);
-      ImGui::SameLine();
-      int frame = int(sequenceFrame_);
-      if (ImGui::SliderInt("##frame", &frame, 0, frames - 1, "frame %d", ImGuiSliderFlags_AlwaysClamp)) seek(frame);
-    }
-    if (ImGui::SliderFloat("exposure", &exposure_, 1e-4f, 1e4f, "%.4g", ImGuiSliderFlags_Logarithmic)) {
-      exposureManual_ = exposureSet_ = true;
-      shownValid_ = false;
-    }
+    ImGui::TextWrapped("%s", shown_.label.c_str());
+  }
+
+  // A moving scene's frame and time, play/pause, step and seek.
+  void drawPlayback() {
+    const int frames = scene_.animation.frameCount();
+    ImGui::Text("frame %u of %d, t = %.3f s  %s", sequenceFrame_, frames, scene_.animation.timeOf(sequenceFrame_),
+                playing_ ? "playing" : "paused");
+    if (ImGui::Button(playing_ ? "pause (K)" : "play (K)")) playing_ = !playing_;
+    ImGui::SameLine();
+    if (ImGui::Button("<")) step(-1);
+    ImGui::SameLine();
+    if (ImGui::Button(">")) step(1);
+    ImGui::SameLine();
+    int frame = int(sequenceFrame_);
+    if (ImGui::SliderInt("##frame", &frame, 0, frames - 1, "frame %d", ImGuiSliderFlags_AlwaysClamp)) seek(frame);
+  }
+
+  // The error against the reference, then what went wrong, each only when there is something.
+  void drawStatus() {
     if (mode_ == ViewMode::Error && reference_) ImGui::TextWrapped("%s", errorText_.c_str());
     if (!unsupported_.empty()) ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "unsupported: %s", unsupported_.c_str());
     if (!failure_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "failed: %s", failure_.c_str());
     if (nonFinite_ > 0) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%zu non-finite values (magenta)", nonFinite_);
     if (!statusText_.empty()) ImGui::TextWrapped("%s", statusText_.c_str());
+  }
 
-    if (ImGui::CollapsingHeader("timings (median of the last 30 frames)", ImGuiTreeNodeFlags_DefaultOpen) && timer_) {
-      ImGui::Text("timer %s, setup %.1f ms", timerStrategyName(timer_->strategy()), setupMs_);
-      for (const std::string& pass : timer_->passOrder()) {
-        const auto& all = timer_->samples().at(pass);
-        std::vector<double> last(all.end() - std::min<ptrdiff_t>(30, ptrdiff_t(all.size())), all.end());
-        if (last.empty()) continue;
-        TimingStats s = summarise(last);
-        ImGui::Text("%-22s %9.2f ms%s", pass.c_str(), s.medianMs, isSharedPass(pass) || pass == PassTimer::kFrame ? "" : " *");
-      }
+  // Each pass's median over the last 30 frames; * marks the method's own passes.
+  void drawTimings() {
+    ImGui::Text("timer %s, setup %.1f ms", timerStrategyName(timer_->strategy()), setupMs_);
+    for (const std::string& pass : timer_->passOrder()) {
+      const auto& all = timer_->samples().at(pass);
+      std::vector<double> last(all.end() - std::min<ptrdiff_t>(30, ptrdiff_t(all.size())), all.end());
+      if (last.empty()) continue;
+      TimingStats s = summarise(last);
+      ImGui::Text("%-22s %9.2f ms%s", pass.c_str(), s.medianMs, isSharedPass(pass) || pass == PassTimer::kFrame ? "" : " *");
     }
-    if (ImGui::CollapsingHeader("parameters", ImGuiTreeNodeFlags_DefaultOpen)) drawParams();
-    if (ImGui::CollapsingHeader("camera and light")) {
-      const Camera& c = scene_.camera;
-      const Light& l = scene_.light;
-      ImGui::Text("eye    %.3f %.3f %.3f", c.position.x, c.position.y, c.position.z);
-      ImGui::Text("target %.3f %.3f %.3f", c.target.x, c.target.y, c.target.z);
-      ImGui::Text("light  %s %.3f %.3f %.3f", lightTypeName(l.type), l.position.x, l.position.y, l.position.z);
-      ImGui::TextWrapped("WASD/Space/C fly (Shift fast), left drag look, right drag moves the light");
-      if (moves()) ImGui::TextWrapped("K play/pause, Left/Right step a frame, Home first frame");
-    }
-    try {
-      if (ImGui::Button("screenshot (P)")) screenshot(nextName(".png"));
-      ImGui::SameLine();
-      if (ImGui::Button("save scene (J)")) saveScene(nextName(".json"));
-    } catch (const std::exception& e) {
-      statusText_ = oneLine(e.what());
-    }
-    ImGui::End();
+  }
+
+  void drawCameraAndLight() {
+    const Camera& c = scene_.camera;
+    const Light& l = scene_.light;
+    ImGui::Text("eye    %.3f %.3f %.3f", c.position.x, c.position.y, c.position.z);
+    ImGui::Text("target %.3f %.3f %.3f", c.target.x, c.target.y, c.target.z);
+    ImGui::Text("light  %s %.3f %.3f %.3f", lightTypeName(l.type), l.position.x, l.position.y, l.position.z);
+    ImGui::TextWrapped("WASD/Space/C fly (Shift fast), left drag look, right drag moves the light");
+    if (moves()) ImGui::TextWrapped("K play/pause, Left/Right step a frame, Home first frame");
   }
 
   // One widget per ParamSpec, within its range; applied when the edit is finished.
@@ -998,35 +1021,51 @@ void checkScreenshotName(const std::string& path) {
   if (ext != ".png" && ext != ".exr") throw UsageError("--screenshot " + path + ": expected a .png or .exr file name");
 }
 
-int viewChecked(const ViewRequest& req, const MethodRegistry& registry) {
-  // Bad input is caught before a window opens.
+// What the view opens with, checked before a window opens.
+struct ViewInput {
   int width = 0, height = 0;
-  parseSize(req.size, width, height);
+  Scene scene;
+  std::string sceneText;           // the scene file's text, for saving a view as a scene
+  std::vector<std::string> specs;  // every registered method when none is given
+  std::vector<ScriptCommand> script;
+};
+
+// Bad input is caught before a window opens: size, scene, methods and their parameters, script,
+// screenshot name.
+ViewInput checkedInput(const ViewRequest& req, const MethodRegistry& registry) {
+  ViewInput in;
+  parseSize(req.size, in.width, in.height);
   SceneLoad loaded;
-  Scene scene = loadSceneMeasured(req.scene, loaded);  // a bar on a terminal while a large scene loads
-  std::vector<std::string> specs = req.methods;
-  if (specs.empty())
-    for (const auto& info : registry) specs.push_back(info.name);
-  for (const std::string& text : specs) {
+  in.scene = loadSceneMeasured(req.scene, loaded);  // a bar on a terminal while a large scene loads
+  in.specs = req.methods;
+  if (in.specs.empty())
+    for (const auto& info : registry) in.specs.push_back(info.name);
+  for (const std::string& text : in.specs) {
     MethodSpec spec = parseMethodSpec(text);
     auto method = createMethod(registry, spec.method);
     ParamValues::parse(spec.method, allParams(*method, 16384), spec.params);
   }
-  if (specs.size() > 9) throw UsageError("vshadow view takes at most 9 methods (keys 1-9); got " + std::to_string(specs.size()));
-  std::vector<ScriptCommand> script;
-  if (!req.script.empty()) script = readScript(req.script);
+  if (in.specs.size() > 9)
+    throw UsageError("vshadow view takes at most 9 methods (keys 1-9); got " + std::to_string(in.specs.size()));
+  if (!req.script.empty()) in.script = readScript(req.script);
   if (!req.screenshot.empty()) checkScreenshotName(req.screenshot);
-  std::string sceneText = sceneSourceText(scene);
+  in.sceneText = sceneSourceText(in.scene);
+  return in;
+}
 
-  Window window(width + kPanelWidth, std::max(height, 600), "vshadow view: " + scene.name);
-  gl::installDebugOutput(req.strictGl);
-  gl::Limits limits = gl::queryLimits();
+// What needs the window's context: the size and the scene's volumes within this GL's limits.
+void checkLimits(const ViewRequest& req, const ViewInput& in, const gl::Limits& limits) {
   int maxSize = std::min({limits.maxTextureSize, limits.maxRenderbufferSize, limits.maxViewportW, limits.maxViewportH});
-  if (width > maxSize || height > maxSize)
+  if (in.width > maxSize || in.height > maxSize)
     throw UsageError("--size " + req.size + " exceeds this GL implementation's limit of " + std::to_string(maxSize) +
                      " pixels per side");
-  std::string volumeProblem = volumeLimitProblem(scene, limits);
-  if (!volumeProblem.empty()) throw UsageError(scene.source + ": " + volumeProblem);
+  std::string volumeProblem = volumeLimitProblem(in.scene, limits);
+  if (!volumeProblem.empty()) throw UsageError(in.scene.source + ": " + volumeProblem);
+}
+
+// One slot per method (keys 1-9): its parameters resolved against the limits.
+std::vector<Slot> methodSlots(const std::vector<std::string>& specs, const gl::Limits& limits,
+                              const MethodRegistry& registry) {
   int maxShadow = std::min(limits.maxTextureSize, limits.maxCubeMapSize);
   std::vector<Slot> slots;
   for (const std::string& text : specs) {
@@ -1038,42 +1077,46 @@ int viewChecked(const ViewRequest& req, const MethodRegistry& registry) {
     s.params = resolved.params;
     slots.push_back(std::move(s));
   }
+  return slots;
+}
 
+RunOptions viewOptions(const ViewRequest& req, int width, int height) {
   RunOptions options;
   options.width = width;
   options.height = height;
   options.seed = uint32_t(req.seed);
   if (req.timer == "auto") options.timer = calibrateTimer().chosen;
   else options.timer = req.timer == "gpu" ? TimerStrategy::GpuTimestamp : TimerStrategy::WallClock;
+  return options;
+}
 
-  glfwSwapInterval(script.empty() && req.frames == 0 ? 1 : 0);
-  // The viewer's callbacks first: Dear ImGui chains them after its own.
-  Viewer viewer(window.get(), std::move(scene), std::move(sceneText), std::move(slots), registry, limits, options, req);
-  Gui gui(window.get());
-  bool automated = !script.empty() || req.frames > 0;
-  if (!automated) {
-    while (!viewer.closing()) viewer.frame();
-    return 0;
+// One script command; false when it quits.
+bool runScriptCommand(Viewer& viewer, const ScriptCommand& c) {
+  switch (c.op) {
+    case ScriptCommand::Op::Frames:
+      for (int i = 0; i < c.count && !viewer.closing(); ++i) viewer.frame();
+      break;
+    case ScriptCommand::Op::Key:
+      for (int key : c.keys) viewer.key(key, 0);
+      break;
+    case ScriptCommand::Op::Look: viewer.look(c.x, c.y); break;
+    case ScriptCommand::Op::Light: viewer.dragLight(c.x, c.y); break;
+    case ScriptCommand::Op::Move: viewer.move(c.x, c.y, c.z); break;
+    case ScriptCommand::Op::Param: viewer.setParam(c.key, c.value); break;
+    case ScriptCommand::Op::Seek: viewer.seek(c.count); break;
+    case ScriptCommand::Op::Screenshot: viewer.screenshot(c.value); break;
+    case ScriptCommand::Op::Scene: viewer.saveScene(c.value); break;
+    case ScriptCommand::Op::Quit: return false;
   }
+  return true;
+}
+
+// The script (an error names its line), then --frames and --screenshot. Returns the exit status.
+int runAutomated(Viewer& viewer, const std::vector<ScriptCommand>& script, const ViewRequest& req) {
   for (const ScriptCommand& c : script) {
     if (viewer.closing()) break;
     try {
-      switch (c.op) {
-        case ScriptCommand::Op::Frames:
-          for (int i = 0; i < c.count && !viewer.closing(); ++i) viewer.frame();
-          break;
-        case ScriptCommand::Op::Key:
-          for (int key : c.keys) viewer.key(key, 0);
-          break;
-        case ScriptCommand::Op::Look: viewer.look(c.x, c.y); break;
-        case ScriptCommand::Op::Light: viewer.dragLight(c.x, c.y); break;
-        case ScriptCommand::Op::Move: viewer.move(c.x, c.y, c.z); break;
-        case ScriptCommand::Op::Param: viewer.setParam(c.key, c.value); break;
-        case ScriptCommand::Op::Seek: viewer.seek(c.count); break;
-        case ScriptCommand::Op::Screenshot: viewer.screenshot(c.value); break;
-        case ScriptCommand::Op::Scene: viewer.saveScene(c.value); break;
-        case ScriptCommand::Op::Quit: return viewer.failed() ? 3 : 0;
-      }
+      if (!runScriptCommand(viewer, c)) return viewer.failed() ? 3 : 0;
     } catch (const UsageError& e) {
       throw UsageError(c.where + ": " + e.what());
     } catch (const std::exception& e) {
@@ -1083,6 +1126,26 @@ int viewChecked(const ViewRequest& req, const MethodRegistry& registry) {
   for (int i = 0; i < req.frames && !viewer.closing(); ++i) viewer.frame();
   if (!req.screenshot.empty()) viewer.screenshot(req.screenshot);
   return viewer.failed() ? 3 : 0;
+}
+
+int viewChecked(const ViewRequest& req, const MethodRegistry& registry) {
+  ViewInput in = checkedInput(req, registry);
+  Window window(in.width + kPanelWidth, std::max(in.height, 600), "vshadow view: " + in.scene.name);
+  gl::installDebugOutput(req.strictGl);
+  gl::Limits limits = gl::queryLimits();
+  checkLimits(req, in, limits);
+  std::vector<Slot> slots = methodSlots(in.specs, limits, registry);
+  RunOptions options = viewOptions(req, in.width, in.height);
+
+  bool automated = !in.script.empty() || req.frames > 0;
+  glfwSwapInterval(automated ? 0 : 1);
+  // The viewer's callbacks first: Dear ImGui chains them after its own.
+  Viewer viewer(window.get(), std::move(in.scene), std::move(in.sceneText), std::move(slots), registry, limits, options,
+                req);
+  Gui gui(window.get());
+  if (automated) return runAutomated(viewer, in.script, req);
+  while (!viewer.closing()) viewer.frame();
+  return 0;
 }
 
 }  // namespace
