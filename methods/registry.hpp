@@ -203,10 +203,26 @@ inline EqualQualityRow equalQualityRow(const Scene& scene, const std::string& sp
   const uint32_t seed = BenchmarkSession::current() ? BenchmarkSession::current()->seed() : 1;
   BruteForceMatcher matcher(scene, reference, limits, registeredMethods(), setup.width, setup.height, seed, setup.shared);
   row.matches = setup.match(matcher, row.method.relmse);
+  // The matches that reach the error are timed; where none does, all of them (lower bounds). The
+  // others keep their line untimed, so every row of a table has as many lines in every process.
+  const bool anyReached = std::any_of(row.matches.begin(), row.matches.end(), [](auto& m) { return m.reached; });
   std::vector<std::string> specs;
-  for (const BaselineMatch& m : row.matches) specs.push_back(m.spec);
-  row.timing = timeAgainstBaselines(scene, spec, specs, limits, setup.width, setup.height, setup.frames, setup.rounds,
-                                    setup.scatter);
+  std::vector<size_t> timed;
+  for (size_t i = 0; i < row.matches.size(); ++i)
+    if (row.matches[i].reached || !anyReached) {
+      specs.push_back(row.matches[i].spec);
+      timed.push_back(i);
+    }
+  EqualQualityTiming t = timeAgainstBaselines(scene, spec, specs, limits, setup.width, setup.height, setup.frames,
+                                              setup.rounds, setup.scatter);
+  row.timing.methodMs = t.methodMs;
+  row.timing.baselineMs.assign(row.matches.size(), Spread{});
+  row.timing.speedup.assign(row.matches.size(), Spread{});
+  for (size_t k = 0; k < timed.size(); ++k) {
+    row.timing.baselineMs[timed[k]] = t.baselineMs[k];
+    row.timing.speedup[timed[k]] = t.speedup[k];
+  }
+  row.timing.cheapest = t.cheapest < 0 ? -1 : int(timed[size_t(t.cheapest)]);
   return row;
 }
 // Equal time: the most steps n in [1, most] whose scattering time stays within `budgetMs` (time

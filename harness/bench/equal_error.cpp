@@ -143,11 +143,13 @@ std::string equalQualityTable(const std::vector<std::pair<std::string, EqualQual
       // the error gives a lower bound.
       const std::string bold = int(i) == row.timing.cheapest ? "**" : "";
       const Spread& s = timed ? row.timing.speedup[i] : Spread{};
-      std::string speedup = !timed ? "failed"
+      // Untimed: a match that missed the error beside others that reached it.
+      const bool skipped = !timed && !m.reached;
+      std::string speedup = skipped ? "-" : !timed ? "failed"
                                    : bold + (m.reached ? "" : ">= ") + format("%.2fx", s.median) + bold + " [" +
                                          format("%.2f", s.lo) + "–" + format("%.2f", s.hi) + "]";
       out += (i == 0 ? own : "| | | |") + " " + baselineCell(m) + " | " + format("%.2e", m.relmse) + " | " +
-             (timed ? spreadCell(row.timing.baselineMs[i]) : "failed") + " | " + speedup + " |\n";
+             (timed ? spreadCell(row.timing.baselineMs[i]) : skipped ? "-" : "failed") + " | " + speedup + " |\n";
     }
   }
   return out;

@@ -50,6 +50,11 @@ TEST(EqualErrorTest, TableMarksTheStrongestBaselineAndLowerBounds) {
   std::vector<std::pair<std::string, EqualQualityRow>> rows = {
       {"a", rowWith({true, true}, {3.0, 2.0}, 1)}, {"b", rowWith({false}, {5.0}, 0)}};
   rows.push_back({"c", EqualQualityRow{}});  // a method that failed
+  // Row d: a match that missed the error beside one that reached it keeps its line, untimed.
+  EqualQualityRow d = rowWith({true, false}, {2.0, 0.0}, 0);
+  d.timing.speedup[1] = Spread{};
+  d.timing.baselineMs[1] = Spread{};
+  rows.push_back({"d", d});
   const std::string table = equalQualityTable(rows, "scene");
   EXPECT_NE(table.find("| scene | L_s relMSE |"), std::string::npos) << table;
   // Row a: the uniform match plain, the cheaper one bold; the second line leaves the method's cells empty.
@@ -61,6 +66,7 @@ TEST(EqualErrorTest, TableMarksTheStrongestBaselineAndLowerBounds) {
   EXPECT_NE(table.find("(does not reach it)"), std::string::npos) << table;
   EXPECT_NE(table.find("| **>= 5.00x** [4.50–5.50] |"), std::string::npos) << table;
   EXPECT_NE(table.find("| c | failed |"), std::string::npos) << table;
+  EXPECT_NE(table.find("`raymarch:steps=20` (does not reach it) | 0.00e+00 | - | - |"), std::string::npos) << table;
 }
 
 class BruteForceMatcherTest : public ::testing::Test {};
