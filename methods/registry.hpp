@@ -79,7 +79,7 @@ inline MethodRun benchmarkSpec(const Scene& scene, const std::string& spec, cons
   return frames > 0 ? timedRunSpec(runner, limits, spec) : runSpec(runner, limits, spec);
 }
 // A run that did not succeed prints its reason as a quoted Markdown line.
-inline Measured measured(MethodRun run, const std::string& spec, const Image* reference, const ScatterTime& scatter) {
+inline Measured measured(MethodRun run, const std::string& spec, const Image* reference) {
   Measured m;
   m.run = std::move(run);
   if (m.run.status != RunStatus::Success) {
@@ -88,7 +88,7 @@ inline Measured measured(MethodRun run, const std::string& spec, const Image* re
     return m;
   }
   m.ok = true;
-  m.scatterMs = scatter ? scatter(m.run) : m.run.scatterMs();
+  m.scatterMs = m.run.scatterMs();
   if (reference) {
     ErrorMetrics e = compareImages(m.run.inscatter, *reference);
     m.rmse = e.rmse;
@@ -99,14 +99,13 @@ inline Measured measured(MethodRun run, const std::string& spec, const Image* re
 }
 // benchmarkSpec as a table row.
 inline Measured measure(const Scene& scene, const std::string& spec, const gl::Limits& limits, int width, int height,
-                        int frames, const Image* reference, const ScatterTime& scatter = {}) {
-  return measured(benchmarkSpec(scene, spec, limits, width, height, frames), spec, reference, scatter);
+                        int frames, const Image* reference) {
+  return measured(benchmarkSpec(scene, spec, limits, width, height, frames), spec, reference);
 }
 // One untimed frame on a shared runner (the points of an equal-error search, whose errors are what
 // counts); its images are dropped once the error is taken.
-inline Measured measureOnce(Runner& runner, const std::string& spec, const gl::Limits& limits, const Image& reference,
-                            const ScatterTime& scatter = {}) {
-  Measured m = measured(runSpec(runner, limits, spec), spec, &reference, scatter);
+inline Measured measureOnce(Runner& runner, const std::string& spec, const gl::Limits& limits, const Image& reference) {
+  Measured m = measured(runSpec(runner, limits, spec), spec, &reference);
   m.run.inscatter = Image();
   m.run.final = Image();
   return m;
@@ -145,14 +144,13 @@ inline std::vector<Spread> measureInterleaved(const Scene& scene, const std::vec
 // of the baseline's time to the method's, with their range.
 inline EqualQualityTiming timeAgainstBaselines(const Scene& scene, const std::string& methodSpec,
                                                const std::vector<std::string>& baselineSpecs, const gl::Limits& limits,
-                                               int width, int height, int frames, int rounds,
-                                               const ScatterTime& scatter = {}) {
+                                               int width, int height, int frames, int rounds) {
   std::vector<std::string> specs = {methodSpec};
   specs.insert(specs.end(), baselineSpecs.begin(), baselineSpecs.end());
   auto runs = runInterleaved(scene, specs, limits, width, height, frames, rounds);
   auto times = [&](const std::vector<MethodRun>& r) {
     std::vector<double> ms;
-    for (const MethodRun& run : r) ms.push_back(scatter ? scatter(run) : run.scatterMs());
+    for (const MethodRun& run : r) ms.push_back(run.scatterMs());
     return ms;
   };
   EqualQualityTiming t;
@@ -191,14 +189,13 @@ inline std::vector<BaselineMatch> matchEverySeries(BruteForceMatcher& matcher, d
 struct EqualQualitySetup {
   int width = 0, height = 0, frames = 3, rounds = 3;
   std::string shared;  // parameters every spec of the row gets ("sm=1024")
-  ScatterTime scatter;
   MatchBaselines match = matchEverySeries;
 };
 inline EqualQualityRow equalQualityRow(const Scene& scene, const std::string& spec, const Image& reference,
                                        const gl::Limits& limits, const EqualQualitySetup& setup) {
   EqualQualityRow row;
   row.spec = spec;
-  row.method = measure(scene, spec, limits, setup.width, setup.height, 0, &reference, setup.scatter);
+  row.method = measure(scene, spec, limits, setup.width, setup.height, 0, &reference);
   if (!row.method.ok) return row;
   const uint32_t seed = BenchmarkSession::current() ? BenchmarkSession::current()->seed() : 1;
   BruteForceMatcher matcher(scene, reference, limits, registeredMethods(), setup.width, setup.height, seed, setup.shared);
@@ -214,7 +211,7 @@ inline EqualQualityRow equalQualityRow(const Scene& scene, const std::string& sp
       timed.push_back(i);
     }
   EqualQualityTiming t = timeAgainstBaselines(scene, spec, specs, limits, setup.width, setup.height, setup.frames,
-                                              setup.rounds, setup.scatter);
+                                              setup.rounds);
   row.timing.methodMs = t.methodMs;
   row.timing.baselineMs.assign(row.matches.size(), Spread{});
   row.timing.speedup.assign(row.matches.size(), Spread{});

@@ -81,11 +81,7 @@ std::vector<CaseRun> defaultRuns(const std::string& name) {
     ResolvedSpec spec = resolveSpec(name + kShared, glLimits());
     auto method = createMethod(name);
     if (!method->unsupportedReason(c.scene, spec.params).empty()) continue;
-    RunOptions options;
-    options.width = kWidth;
-    options.height = kHeight;
-    options.frames = 1;
-    options.warmup = 0;
+    RunOptions options = RunOptions::singleFrame(kWidth, kHeight);
     Runner runner(c.scene, glLimits(), options);
     c.run = runner.run(*method, spec.params);
     EXPECT_EQ(c.run.status, RunStatus::Success) << name << " on " << coverage.name << ": " << c.run.reason;
@@ -160,6 +156,9 @@ void expectFolderAgrees(const std::string& name, const std::string& folder) {
   EXPECT_EQ(unique.size(), passes.size()) << name << " declares a pass twice";
   for (const std::string& pass : passes)
     EXPECT_FALSE(isSharedPass(pass) || isRunnerPass(pass)) << name << " declares the harness's pass '" << pass << "'";
+  for (const std::string& pass : method->surfacePasses())
+    EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end())
+        << name << "'s surface pass '" << pass << "' is not among its passes";
 }
 
 void expectLadderResolves(const std::string& name) {

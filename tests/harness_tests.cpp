@@ -438,11 +438,7 @@ class FailureRowTest : public GlTest {};
 
 TEST_F(FailureRowTest, FaultsBecomeFailureRowsWithReasons) {
   Scene scene = loadScene("spheres");
-  RunOptions options;
-  options.width = 32;
-  options.height = 24;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(32, 24);
   Runner runner(scene, limits(), options);
   std::vector<ParamSpec> specs = allParams(FaultyMethod(FaultyMethod::Fault::NaNPixels), 1024);
   ParamValues params = ParamValues::parse("faulty", specs, {{"sm", "256"}});
@@ -483,14 +479,18 @@ class OwnShadowsMethod : public Method {
     return c;
   }
   std::vector<ParamSpec> params() const override { return {}; }
-  std::vector<std::string> passes() const override { return {"Own Pass"}; }
+  std::vector<std::string> passes() const override { return {"Own Pass", "Own Surface Shadows"}; }
+  std::vector<std::string> surfacePasses() const override { return {"Own Surface Shadows"}; }
   bool needsSharedShadowMap() const override { return false; }
   std::vector<std::string> approximations() const override { return {"no visibility at all"}; }
   void setup(const SetupContext&, const ParamValues&) override {}
   void render(const Frame& frame, PassTimer& timer) override {
-    auto scope = timer.scope("Own Pass");
-    const float nothing[4] = {0, 0, 0, 1};
-    glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, nothing);
+    {
+      auto scope = timer.scope("Own Pass");
+      const float nothing[4] = {0, 0, 0, 1};
+      glClearNamedFramebufferfv(frame.inscatterFbo, GL_COLOR, 0, nothing);
+    }
+    auto scope = timer.scope("Own Surface Shadows");
   }
 };
 
@@ -498,11 +498,7 @@ class ContractTest : public GlTest {};
 
 TEST_F(ContractTest, MethodWithoutSharedShadowMapDoesNotPayForIt) {
   Scene scene = loadScene("spheres");
-  RunOptions options;
-  options.width = 32;
-  options.height = 24;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(32, 24);
   Runner runner(scene, limits(), options);
   OwnShadowsMethod own;
   ParamValues params = ParamValues::parse("own-shadows", allParams(own, 4096), {});
@@ -511,12 +507,30 @@ TEST_F(ContractTest, MethodWithoutSharedShadowMapDoesNotPayForIt) {
   EXPECT_EQ(std::find(r.passes.begin(), r.passes.end(), "Shadow Map"), r.passes.end());
   EXPECT_NE(std::find(r.passes.begin(), r.passes.end(), "Own Pass"), r.passes.end());
   EXPECT_EQ(r.approximations, std::vector<std::string>{"no visibility at all"});
+  EXPECT_EQ(r.surfacePasses, std::vector<std::string>{"Own Surface Shadows"}) << "the run knows its surface passes";
   EXPECT_GE(r.setupMs, 0.0);
   // The shared shadow map is empty (V = 1), so Direct Lighting is unshadowed for such a method.
   auto raymarch = createMethod("raymarch");
   MethodRun shadowed = runner.run(*raymarch, resolveSpec("raymarch:steps=4", limits()).params);
   ASSERT_EQ(shadowed.status, RunStatus::Success);
   EXPECT_NE(std::find(shadowed.passes.begin(), shadowed.passes.end(), "Shadow Map"), shadowed.passes.end());
+}
+
+// Scattering time has one definition: the method's passes, without the shared ones and without the
+// passes it declares as surface shading.
+TEST(ContractTest2, ScatteringTimeLeavesOutSharedAndSurfacePasses) {
+  MethodRun r;
+  r.passStats[kShadowMapPass].medianMs = 1.0;
+  r.passStats[kCompositePass].medianMs = 2.0;
+  r.passStats["Own Pass"].medianMs = 4.0;
+  r.passStats[kVplAccumulationPass].medianMs = 8.0;  // the per-VPL wrapper's work is the method's
+  r.passStats["Own Surface Shadows"].medianMs = 16.0;
+  EXPECT_DOUBLE_EQ(r.scatterMs(), 28.0);
+  r.surfacePasses = {"Own Surface Shadows"};
+  EXPECT_DOUBLE_EQ(r.scatterMs(), 12.0);
+  EXPECT_FALSE(r.isScatteringPass("Own Surface Shadows"));
+  EXPECT_FALSE(r.isScatteringPass(kShadowMapPass));
+  EXPECT_TRUE(r.isScatteringPass("Own Pass"));
 }
 
 TEST(ContractTest2, MissingCapabilityNamesTheEffect) {

@@ -31,11 +31,7 @@ std::string hardCaseCell(const HardCase& hard, const std::string& methodName, co
       return "unsupported";
     spec = wrapped;
   }
-  RunOptions options;
-  options.width = 64;
-  options.height = 48;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(64, 48);
   MethodRun run = renderScene(scene, spec, options);
   if (run.status != RunStatus::Success) return "**Failure**: " + run.reason;
   size_t bad = 0;

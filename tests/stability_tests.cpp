@@ -53,11 +53,7 @@ TEST_P(StabilityTest, StaysFiniteBoundedAndDeterministic) {
   }
   if (!unsupported.empty()) GTEST_SKIP() << unsupported;
 
-  RunOptions options;
-  options.width = hard.width;
-  options.height = hard.height;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(hard.width, hard.height);
   MethodRun first = renderScene(scene, spec, options);
   ASSERT_EQ(first.status, RunStatus::Success) << first.reason;
   expectFiniteNonNegative(first.inscatter, "L_s");

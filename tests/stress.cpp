@@ -170,11 +170,7 @@ std::vector<StressSummary> runStress(const std::vector<std::string>& methods, co
     if (found != referenceSpecs.end()) return found->second;
     return referenceSpecs.emplace(text, resolveSpec(text, limits)).first->second;
   };
-  RunOptions run;
-  run.width = options.width;
-  run.height = options.height;
-  run.frames = 1;
-  run.warmup = 0;
+  RunOptions run = RunOptions::singleFrame(options.width, options.height);
   int shards = std::max(options.shards, 1);
   int total = 0;
   for (int i = options.shard; i < options.configs; i += shards) ++total;

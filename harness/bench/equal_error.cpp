@@ -43,11 +43,7 @@ BruteForceMatcher::BruteForceMatcher(const Scene& scene, const Image& reference,
   baseline_ = createMethod(registry, method_);
   for (const auto& s : baseline_->qualitySeries(effects))
     if (!baseline_->baselineParams({s.name, 1}).empty()) series_.push_back(s.name);
-  RunOptions once;
-  once.width = width;
-  once.height = height;
-  once.frames = 1;
-  once.warmup = 0;
+  RunOptions once = RunOptions::singleFrame(width, height);
   once.seed = seed;
   once.timer = TimerStrategy::WallClock;
   runner_ = std::make_unique<Runner>(scene, limits, once);

@@ -77,11 +77,10 @@ class BruteForceMatcher {
 // One row of a benchmark table: a timed run, its scattering time and its L_s error.
 struct Measured {
   MethodRun run;
-  double scatterMs = 0;  // the table's scattering time (MethodRun::scatterMs unless the table says otherwise)
+  double scatterMs = 0;  // MethodRun::scatterMs
   double rmse = 0, relmse = 0;  // L_s against the reference (0 without one)
   bool ok = false;              // the run succeeded
 };
-using ScatterTime = std::function<double(const MethodRun&)>;
 
 struct EqualQualityTiming {
   Spread methodMs;

@@ -97,9 +97,13 @@ class Method {
   // The method's own knobs. The harness adds the shared ones (sm = shadow-map resolution).
   virtual std::vector<ParamSpec> params() const = 0;
   // Every pass render() may time (timer.scope), named as the paper's tables name them: the row's
-  // pass columns, whose sum is its scattering time (MethodRun::scatterMs). A run that times a
+  // pass columns. A run that times a
   // pass not listed here fails, so tables and benchmarks can rely on the list.
   virtual std::vector<std::string> passes() const = 0;
+  // The passes among passes() that shade surfaces (L_surf from the method's own structure, e.g.
+  // surface shadows) rather than compute L_s: timed and listed, but not scattering time. The one
+  // definition of scattering time: the method's passes minus these (MethodRun::scatterMs).
+  virtual std::vector<std::string> surfacePasses() const { return {}; }
   // Parameter sets for `vshadow shootout`, cheapest first (each "key=value:key=value").
   virtual std::vector<std::string> qualityLadder() const { return {""}; }
   // The ladder for a scene with these effects, as one or more named series, each cheapest first

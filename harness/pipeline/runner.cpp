@@ -333,6 +333,7 @@ void Runner::measureFrames(Method& method, PassTimer& timer, int measured, Metho
 // The timed passes into the row, in the order they ran; a pass the method did not declare fails it.
 static void collectPasses(const Method& method, const PassTimer& timer, MethodRun& result) {
   const std::vector<std::string> declared = method.passes();
+  result.surfacePasses = method.surfacePasses();
   for (const auto& name : timer.passOrder()) {
     if (name != PassTimer::kFrame && !isSharedPass(name) && !isRunnerPass(name) &&
         std::find(declared.begin(), declared.end(), name) == declared.end())

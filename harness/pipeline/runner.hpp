@@ -1,5 +1,6 @@
 // Runs one method on one scene: warm-up, measured frames, per-pass statistics, readback.
 #pragma once
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <memory>
@@ -31,6 +32,15 @@ struct RunOptions {
   // true: L_s is read back after every measured frame (outside its timing), for errors over a
   // moving scene's sequence (MethodRun::sequence).
   bool sequence = false;
+  // One frame without a warm-up: a run whose image is what counts (errors, references, tests).
+  static RunOptions singleFrame(int width, int height) {
+    RunOptions o;
+    o.width = width;
+    o.height = height;
+    o.frames = 1;
+    o.warmup = 0;
+    return o;
+  }
 };
 
 // The per-run part of RunOptions: how many frames a run renders and what it reads back.
@@ -51,12 +61,21 @@ struct FrameSchedule {
 enum class RunStatus { Success, Unsupported, Failure };
 const char* runStatusName(RunStatus s);
 
+// Whether a pass counts in a method's scattering time: its own passes (and the per-VPL wrapper's)
+// but not the shared shadow map, G-buffer, lighting and composite (isSharedPass, as the papers
+// count) nor the method's surface shading (Method::surfacePasses).
+inline bool isScatteringPass(const std::string& pass, const std::vector<std::string>& surfacePasses) {
+  return pass != PassTimer::kFrame && !isSharedPass(pass) &&
+         std::find(surfacePasses.begin(), surfacePasses.end(), pass) == surfacePasses.end();
+}
+
 struct MethodRun {
   std::string method, params;  // params: canonical "key=value:..."
   int shadowMapSize = 0;
   RunStatus status = RunStatus::Success;
   std::string reason;
   std::vector<std::string> passes;  // passes that ran, in order
+  std::vector<std::string> surfacePasses;  // Method::surfacePasses(): timed, not scattering
   std::vector<std::string> approximations;  // Method::approximations()
   double setupMs = 0;               // Method::setup, wall clock bracketed by glFinish
   std::map<std::string, TimingStats> passStats;
@@ -78,12 +97,12 @@ struct MethodRun {
     auto it = passStats.find(pass);
     return it == passStats.end() ? 0.0 : it->second.medianMs;
   }
-  // The scattering time: the medians of the method's own passes (the papers exclude the shared
-  // shadow map, G-buffer, lighting and composite, isSharedPass).
+  bool isScatteringPass(const std::string& pass) const { return vs::isScatteringPass(pass, surfacePasses); }
+  // The scattering time: the sum of the medians of its scattering passes.
   double scatterMs() const {
     double total = 0.0;
     for (const auto& [pass, stats] : passStats)
-      if (!isSharedPass(pass)) total += stats.medianMs;
+      if (isScatteringPass(pass)) total += stats.medianMs;
     return total;
   }
 };

@@ -875,15 +875,16 @@ class Viewer {
     if (!statusText_.empty()) ImGui::TextWrapped("%s", statusText_.c_str());
   }
 
-  // Each pass's median over the last 30 frames; * marks the method's own passes.
+  // Each pass's median over the last 30 frames; * marks the passes of the scattering time.
   void drawTimings() {
     ImGui::Text("timer %s, setup %.1f ms", timerStrategyName(timer_->strategy()), setupMs_);
+    const std::vector<std::string> surface = method_ ? method_->surfacePasses() : std::vector<std::string>{};
     for (const std::string& pass : timer_->passOrder()) {
       const auto& all = timer_->samples().at(pass);
       std::vector<double> last(all.end() - std::min<ptrdiff_t>(30, ptrdiff_t(all.size())), all.end());
       if (last.empty()) continue;
       TimingStats s = summarise(last);
-      ImGui::Text("%-22s %9.2f ms%s", pass.c_str(), s.medianMs, isSharedPass(pass) || pass == PassTimer::kFrame ? "" : " *");
+      ImGui::Text("%-22s %9.2f ms%s", pass.c_str(), s.medianMs, isScatteringPass(pass, surface) ? " *" : "");
     }
   }
 

@@ -22,10 +22,6 @@ using namespace vs;
 // The paper's visibility function: fixed opacity thresholds, straight segments in opacity.
 const std::string kPaperLayout = "segments=linear:thresholds=absolute";
 
-double scatterMsOf(const MethodRun& run) {
-  return run.passMs("DSM Generation") + run.passMs("Volume March") + run.passMs("Ray Marching");
-}
-
 double stat(const MethodRun& run, const std::string& key) {
   auto it = run.stats.find(key);
   return it == run.stats.end() ? 0.0 : it->second;
@@ -62,7 +58,7 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
               "channel's transmittance T^ratio) is only an approximation; `channels=3` (the default `auto` here) "
               "generates and reads one map per channel. Times: median [range] over %d rounds in turn.\n\n", rounds);
   Scene scene = twoColourScene();
-  Measured ref = measure(scene, referenceSpec(scene), limits, w, h, 0, nullptr, scatterMsOf);
+  Measured ref = measure(scene, referenceSpec(scene), limits, w, h, 0, nullptr);
   if (!ref.ok) return;
   std::printf("| setting | channels | L_s relMSE | L relMSE | DSM Generation ms | Volume March ms | scattering ms |\n"
               "|---|---|---|---|---|---|---|\n");
@@ -71,13 +67,13 @@ void colouredShadows(const gl::Limits& limits, int w, int h, int frames, int rou
     for (const char* channels : {"1", "3"}) specs.push_back(std::string("dsm:") + setting + ":channels=" + channels);
     auto timed = runInterleaved(scene, specs, limits, w, h, frames, rounds);
     for (size_t i = 0; i < specs.size(); ++i) {
-      Measured m = measure(scene, specs[i], limits, w, h, 0, &ref.run.inscatter, scatterMsOf);
+      Measured m = measure(scene, specs[i], limits, w, h, 0, &ref.run.inscatter);
       if (!m.ok || timed[i].empty()) continue;
       double finalErr = compareImages(m.run.final, ref.run.final).relmse;
       std::printf("| %s | %s | %.2e | %.2e | %s | %s | %s |\n", setting, i == 0 ? "1" : "3", m.relmse, finalErr,
                   spreadCell(spreadOf(timed[i], [](const MethodRun& r) { return r.passMs("DSM Generation"); })).c_str(),
                   spreadCell(spreadOf(timed[i], [](const MethodRun& r) { return r.passMs("Volume March"); })).c_str(),
-                  spreadCell(spreadOf(timed[i], scatterMsOf)).c_str());
+                  spreadCell(spreadOf(timed[i], &MethodRun::scatterMs)).c_str());
       std::fflush(stdout);
     }
   }
@@ -108,7 +104,7 @@ Grid baselineGrid(const Bench& b, const Scene& scene, Runner& gridRunner, const 
         BaselinePoint point{sampling, int(std::lround(steps))};
         point.lightRaySteps = vsteps;
         std::string spec = baselineSpec(scene, point);
-        g.baselines.push_back(measureOnce(gridRunner, spec, b.limits, reference, scatterMsOf));
+        g.baselines.push_back(measureOnce(gridRunner, spec, b.limits, reference));
         g.specs.push_back(spec);
         const Measured& m = g.baselines.back();
         if (!m.ok) continue;
@@ -148,8 +144,8 @@ void matchRung(const Bench& b, const Scene& scene, const char* name, const std::
   if (miss >= 0) specs.push_back(g.specs[size_t(miss)]);
   auto timed = runInterleaved(scene, specs, b.limits, b.w, b.h, b.frames, b.rounds);
   std::vector<double> own, base;
-  for (const MethodRun& r : timed[0]) own.push_back(scatterMsOf(r));
-  for (const MethodRun& r : timed[1]) base.push_back(scatterMsOf(r));
+  for (const MethodRun& r : timed[0]) own.push_back(r.scatterMs());
+  for (const MethodRun& r : timed[1]) base.push_back(r.scatterMs());
   Spread ratio = ratioSpread(base, own);
   if (ratio.median <= 0.0) return;
   Spread ownMs = spreadOfValues(own), baseMs = spreadOfValues(base);
@@ -161,7 +157,7 @@ void matchRung(const Bench& b, const Scene& scene, const char* name, const std::
               spreadCell(ownMs).c_str(), g.specs[size_t(best)].substr(9).c_str(), baselines[size_t(best)].relmse,
               spreadCell(baseMs).c_str(), ratio.median, ratio.lo, ratio.hi,
               // A miss that timed slower than the match in the rounds bounds nothing: the match does.
-              miss >= 0 ? std::min(spreadOf(timed[2], scatterMsOf).median, baseMs.median) / std::max(ownMs.median, 1e-9)
+              miss >= 0 ? std::min(spreadOf(timed[2], &MethodRun::scatterMs).median, baseMs.median) / std::max(ownMs.median, 1e-9)
                         : 0.0);
   std::fflush(stdout);
 }
@@ -189,19 +185,15 @@ DefaultsRuns equalQualitySection(const Bench& b) {
   ladder.insert(ladder.begin() + defaultsRung + 1, kPaperLayout);
   for (const char* name : {"cloud", "volumes"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, referenceSpec(scene), b.limits, w, h, 0, nullptr, scatterMsOf);
+    Measured ref = measure(scene, referenceSpec(scene), b.limits, w, h, 0, nullptr);
     if (!ref.ok) continue;
-    RunOptions once;
-    once.width = w;
-    once.height = h;
-    once.frames = 1;
-    once.warmup = 0;
+    RunOptions once = RunOptions::singleFrame(w, h);
     once.seed = BenchmarkSession::current()->seed();
     Runner gridRunner(scene, b.limits, once);
     std::vector<Measured> rungs;
     double lowest = 1e30;
     for (const std::string& setting : ladder) {
-      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, b.limits, ref.run.inscatter, scatterMsOf));
+      rungs.push_back(measureOnce(gridRunner, "dsm:" + setting, b.limits, ref.run.inscatter));
       if (rungs.back().ok) lowest = std::min(lowest, rungs.back().relmse);
     }
     Grid grid = baselineGrid(b, scene, gridRunner, ref.run.inscatter, lowest);
@@ -256,7 +248,7 @@ void knobsSection(const Bench& b) {
   std::map<std::string, std::pair<Scene, Image>> refs;
   for (const char* name : {"volumes", "cloud"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, referenceSpec(scene), limits, sw, sh, 0, nullptr, scatterMsOf);
+    Measured ref = measure(scene, referenceSpec(scene), limits, sw, sh, 0, nullptr);
     if (!ref.ok) continue;
     refs.emplace(name, std::make_pair(scene, ref.run.inscatter));
   }
@@ -265,7 +257,7 @@ void knobsSection(const Bench& b) {
       std::printf("| %s | %s", knob.key, value);
       for (const char* name : {"volumes", "cloud"}) {
         auto& [scene, ref] = refs.at(name);
-        Measured m = measure(scene, std::string("dsm:") + knob.key + "=" + value, limits, sw, sh, frames, &ref, scatterMsOf);
+        Measured m = measure(scene, std::string("dsm:") + knob.key + "=" + value, limits, sw, sh, frames, &ref);
         std::printf(" | %.2e | %.1f", m.relmse, m.scatterMs);
       }
       std::printf(" |\n");
@@ -289,7 +281,7 @@ void dataSetsSection(const Bench& b) {
     const Volume& v = scene.volumes[0];
     int side = quick ? 96 : 512;
     Measured m = measure(scene, "dsm:res=512:gen_step=0.5:gen_steps=512:view_steps=128:haze_steps=0:interp=smoothstep:" + kPaperLayout, limits, side,
-                         side, frames, nullptr, scatterMsOf);
+                         side, frames, nullptr);
     if (!m.ok) continue;
     std::printf("| %s | %dx%dx%d | %.1f | %.1f | %.1f | %.1f | %.1f | %.3g |\n", generator, v.dims[0], v.dims[1],
                 v.dims[2], m.run.passMs("DSM Generation"), m.run.passMs("Volume March"),

@@ -158,6 +158,9 @@ Capabilities DsmMethod::capabilities() const {
 
 std::vector<std::string> DsmMethod::passes() const { return {kGeneration, kMarch, kSurface}; }
 
+// Surface Shadows shades L_surf: timed, not scattering time.
+std::vector<std::string> DsmMethod::surfacePasses() const { return {kSurface}; }
+
 std::vector<ParamSpec> DsmMethod::params() const {
   return {ParamSpec::integer("res", 512, 16, 8192, "DSM resolution (texels per side, per face)"),
           ParamSpec::real("gen_step", 0.5, 0.01, 64.0, "DSM Generation: step length along light rays, in voxels of the finest volume"),

@@ -42,6 +42,7 @@ class DsmMethod : public Method {
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> passes() const override;
+  std::vector<std::string> surfacePasses() const override;
   std::vector<std::string> qualityLadder() const override;
   std::vector<std::string> approximations() const override {
     std::vector<std::string> out = {"volume transmittance interpolated between opacity knots (linear in opacity or in optical depth)"};

@@ -26,15 +26,6 @@ namespace {
 
 using namespace vs;
 
-const char* const kOwnPasses[] = {"Near/Far Maps", "Slicemap", "Prefix Counts", "Scattering"};
-
-// The method's own passes without Shading (raymarch: Ray Marching).
-double scatterMs(const MethodRun& run) {
-  double ms = run.passMs("Ray Marching");
-  for (const char* pass : kOwnPasses) ms += run.passMs(pass);
-  return ms;
-}
-
 double stat(const MethodRun& run, const std::string& key) {
   auto it = run.stats.find(key);
   return it == run.stats.end() ? 0.0 : it->second;
@@ -99,7 +90,7 @@ void table1Section(const Bench& b) {
         // The paper's transmittance shadow maps: opaque occluders in the shadow map, the leaves alone in the slicemap.
         std::string spec = "slicemap:res=512:steps=64:opaque=shadowmap:pack=0:slicing=" + std::string(slicing) +
                            ":targets=" + std::to_string(targets);
-        Measured m = measure(scene, spec, limits, side, side, frames, nullptr, scatterMs);
+        Measured m = measure(scene, spec, limits, side, side, frames, nullptr);
         if (!m.ok) continue;
         const MethodRun& r = m.run;
         double ssm = r.passMs(kShadowMapPass) + r.passMs(kGBufferPass) + r.passMs(kDirectLightingPass) + r.passMs(kCompositePass);
@@ -127,7 +118,7 @@ void throughputSection(const Bench& b) {
   for (const char* slicing : {"uniform", "local"})
     for (int targets : {1, 8}) {
       std::string spec = "slicemap:res=512:steps=1:surface=0:slicing=" + std::string(slicing) + ":targets=" + std::to_string(targets);
-      Measured m = measure(big, spec, limits, 64, 48, frames, nullptr, scatterMs);
+      Measured m = measure(big, spec, limits, 64, 48, frames, nullptr);
       if (!m.ok) continue;
       std::printf("| %.0f | %s | %d | %.1f | %.1f | %.3g | %.3g |\n", stat(m.run, "slicemap_triangles"), slicing, 128 * targets,
                   m.run.passMs("Near/Far Maps"), m.run.passMs("Slicemap"), stat(m.run, "slicemap_triangles_per_s"),
@@ -185,7 +176,7 @@ void lookupSection(const Bench& b) {
   for (int targets : {1, 2, 4, 8})
     for (const char* lookup : {"scan", "prefix"}) {
       Measured m = measure(foliage, "slicemap:steps=128:pack=0:targets=" + std::to_string(targets) + ":lookup=" + lookup, limits,
-                           w, h, frames, nullptr, scatterMs);
+                           w, h, frames, nullptr);
       if (!m.ok) continue;
       std::printf("| %d | %d | %s | %.1f | %.1f |\n", targets, 128 * targets, lookup, m.run.passMs("Prefix Counts"),
                   m.run.passMs("Scattering"));
@@ -204,11 +195,11 @@ void shareSection(const Bench& b) {
   std::printf("share=S: S consecutive samples take their visibility from the column at the group's middle, each at "
               "its own light depth. L_s relMSE against the reference method's own (`%s`).\n\n", referenceSpec(foliage).c_str());
   std::printf("| res | share | L_s relMSE | Scattering ms |\n|---|---|---|---|\n");
-  Measured shareRef = measure(foliage, referenceSpec(foliage), limits, w, h, 0, nullptr, scatterMs);
+  Measured shareRef = measure(foliage, referenceSpec(foliage), limits, w, h, 0, nullptr);
   for (int res : {128, 512})
     for (int share : {1, 2, 4, 8}) {
       Measured m = measure(foliage, "slicemap:res=" + std::to_string(res) + ":share=" + std::to_string(share), limits, w, h,
-                           frames, shareRef.ok ? &shareRef.run.inscatter : nullptr, scatterMs);
+                           frames, shareRef.ok ? &shareRef.run.inscatter : nullptr);
       if (!m.ok) continue;
       std::printf("| %d | %d | %.2e | %.1f |\n", res, share, m.relmse, m.run.passMs("Scattering"));
       std::fflush(stdout);
@@ -228,7 +219,7 @@ void opaqueScenesSection(const Bench& b) {
   std::printf("| scene | method | L_s relMSE | scattering ms |\n|---|---|---|---|\n");
   for (const char* name : {"spheres", "room", "fence", "trees", "terrain"}) {
     Scene scene = loadScene(name);
-    Measured ref = measure(scene, referenceSpec(scene, "sm=2048"), limits, w / 2, h / 2, 0, nullptr, scatterMs);
+    Measured ref = measure(scene, referenceSpec(scene, "sm=2048"), limits, w / 2, h / 2, 0, nullptr);
     if (!ref.ok) continue;
     for (const auto& info : registeredMethods()) {
       MethodRun r = benchmarkSpec(scene, info.name + ":sm=2048", limits, w / 2, h / 2, frames);
@@ -258,14 +249,13 @@ void equalQualitySection(const Bench& b) {
   setup.height = b.h;
   setup.frames = b.frames;
   setup.rounds = rounds;
-  setup.scatter = scatterMs;
   setup.match = [](BruteForceMatcher& matcher, double target) {
     return std::vector<BaselineMatch>{matcher.matchSteps("equiangular", target)};
   };
   std::vector<std::pair<std::string, EqualQualityRow>> rows;
   for (const Scene* scene : {&b.foliage, &b.chestnut}) {
     const std::string name = scene == &b.foliage ? "foliage" : "chestnut";
-    Measured ref = measure(*scene, referenceSpec(*scene), b.limits, b.w, b.h, 0, nullptr, scatterMs);
+    Measured ref = measure(*scene, referenceSpec(*scene), b.limits, b.w, b.h, 0, nullptr);
     if (!ref.ok) continue;
     std::vector<std::string> settings = {"steps=32", "steps=64", "", "steps=256", "res=256", "res=256:steps=64",
                                          "opaque=shadowmap:pack=0", "equiangular=0"};

@@ -166,6 +166,9 @@ std::vector<std::string> SlicemapMethod::passes() const {
   return {kNearFar, kSlicemap, kPrefix, kScattering, kShading};
 }
 
+// Shading shades L_surf: timed, not scattering time.
+std::vector<std::string> SlicemapMethod::surfacePasses() const { return {kShading}; }
+
 std::vector<ParamSpec> SlicemapMethod::params() const {
   return {ParamSpec::integer("res", 512, 16, 8192, "slicemap resolution (texels per side, per cube face)").pow2(),
           ParamSpec::integer("targets", 1, 1, slicemap::kMaxTargets, "RGBA32UI render targets per slicemap: 128 slices each"),

@@ -60,6 +60,7 @@ class SlicemapMethod : public Method {
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> passes() const override;
+  std::vector<std::string> surfacePasses() const override;
   std::vector<std::string> qualityLadder() const override;
   std::vector<std::string> approximations() const override;
   std::string unsupportedReason(const Scene& scene, const ParamValues& params) const override;

@@ -62,6 +62,9 @@ std::vector<std::string> VsvMethod::passes() const {
   return {kRanges, kVoxelizeSm, kVoxelizeGeometry, kScan, kInscatter, kSurface};
 }
 
+// Surface Shadows shades L_surf: timed, not scattering time.
+std::vector<std::string> VsvMethod::surfacePasses() const { return {kSurface}; }
+
 std::vector<ParamSpec> VsvMethod::params() const {
   return {ParamSpec::integer("alpha", 256, 8, 8192, "N_alpha: columns (eye angle from the light axis)"),
           ParamSpec::integer("theta", 512, 8, 8192, "N_theta: rows (epipolar planes)"),

@@ -20,6 +20,7 @@ class VsvMethod : public Method {
   Capabilities capabilities() const override;
   std::vector<ParamSpec> params() const override;
   std::vector<std::string> passes() const override;
+  std::vector<std::string> surfacePasses() const override;
   std::vector<std::string> approximations() const override {
     return {"visibility quantised to the epipolar voxel grid"};
   }

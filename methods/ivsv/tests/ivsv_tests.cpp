@@ -99,11 +99,7 @@ TEST_F(IvsvTest, UnshadowedEqualsRaymarchWithoutOccluders) {
   // Without casters the grids are empty: the gather is the plain VPL integral.
   const int W = 64, H = 48;
   Scene scene = loadScene("arealight");
-  RunOptions options;
-  options.width = W;
-  options.height = H;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(W, H);
   options.shadowCasters = false;
   MethodRun marched = renderScene(scene, "raymarch:steps=256:sampling=equiangular:vpls=16:sm=256", options);
   MethodRun run = renderScene(scene, "ivsv:lights=16:steps=256", options);

@@ -345,11 +345,7 @@ TEST_F(MinmaxTest, HardCasesStayFiniteAndClose) {
 // are the rectified row, for rows of 16 to 2048 texels (every remainder of the four-level passes).
 TEST_F(MinmaxTest, MipmapNodesAreMinAndMaxOfTheirChildren) {
   Scene scene = loadScene("room");
-  RunOptions options;
-  options.width = 32;
-  options.height = 24;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(32, 24);
   for (int res : {16, 32, 64, 256, 512, 2048}) {
     Runner runner(scene, glLimits(), options);
     MinmaxMethod method;
@@ -386,11 +382,7 @@ TEST_F(MinmaxTest, WorkCountersCountTheTraversal) {
   // Without shadow casters every row is one lit run; with the spheres' shadows the rows break into
   // several, and the traversal takes more steps. The counters come from an extra, untimed frame.
   Scene scene = loadScene("spheres");
-  RunOptions options;
-  options.width = kW;
-  options.height = kH;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(kW, kH);
   options.workCounters = true;
   MethodRun shadowed = renderScene(scene, "minmax:sm=512", options);
   options.shadowCasters = false;

@@ -311,11 +311,7 @@ TEST_F(SlicemapTest, SteepAndLightParallelPrimitives) {
   // crosses many slices there (holes in the voxelization), yet every light ray still crosses it
   // once, so its shadow is right. A quad exactly parallel to the light rasterizes to nothing:
   // no bits, no shadow, as for a shadow map and for the exact ground truth.
-  RunOptions options;
-  options.width = 16;
-  options.height = 12;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(16, 12);
   for (double tilt : {0.0, 60.0, 85.0, 90.0}) {
     Scene scene = sceneFromJson(tiltedQuadScene(tilt));
     Runner runner(scene, glLimits(), options);

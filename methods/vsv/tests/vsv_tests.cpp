@@ -385,11 +385,7 @@ TEST_F(VsvTest, FusedVoxelizerEqualsPointsThenScan) {
 
 // One 64x48 frame with Compute L_s's work counters.
 RunOptions countingOptions() {
-  RunOptions options;
-  options.width = 64;
-  options.height = 48;
-  options.frames = 1;
-  options.warmup = 0;
+  RunOptions options = RunOptions::singleFrame(64, 48);
   options.workCounters = true;
   return options;
 }
