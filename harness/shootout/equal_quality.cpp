@@ -48,9 +48,16 @@ double RenderedBaseline::time(const std::string& sampling, int sm, int steps) {
   return r.status == RunStatus::Success ? r.scatterMs() : -1.0;
 }
 
+const ResolvedSpec& RenderedBaseline::resolved(const std::string& sampling, int sm, int steps) {
+  auto key = std::make_tuple(sampling, sm, steps);
+  auto it = resolved_.find(key);
+  if (it == resolved_.end()) it = resolved_.emplace(key, resolveSpec(spec(sampling, sm, steps), limits_, registry_)).first;
+  return it->second;
+}
+
 MethodRun RenderedBaseline::run(Runner& runner, const FrameSchedule& schedule, const std::string& sampling, int sm,
                                 int steps) {
-  ResolvedSpec spec = resolveSpec(this->spec(sampling, sm, steps), limits_, registry_);
+  const ResolvedSpec& spec = resolved(sampling, sm, steps);
   auto method = createMethod(registry_, method_);
   return runner.run(*method, spec.params, schedule);
 }
@@ -121,19 +128,19 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan) {
   return out;
 }
 
-std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const FrameSchedule& schedule,
+std::vector<double> timeMatchedBaselines(RowMatches& matches, Runner& runner, const FrameSchedule& schedule,
                                          const MethodRegistry& registry, const gl::Limits& limits, EqualQuality& eq,
                                          int sm, Progress& progress) {
   std::vector<double> ms;
-  for (const auto& b : matches.baselines) {
+  for (auto& b : matches.baselines) {
     if (!b.match.reached) {
       ms.push_back(0.0);
       continue;
     }
     progress.note("equal quality: timing " + b.spec);
-    ResolvedSpec spec = resolveSpec(b.spec, limits, registry);
-    auto method = createMethod(registry, spec.method);
-    MethodRun run = runner.run(*method, spec.params, schedule);
+    if (!b.resolved) b.resolved = resolveSpec(b.spec, limits, registry);
+    auto method = createMethod(registry, b.resolved->method);
+    MethodRun run = runner.run(*method, b.resolved->params, schedule);
     // A round whose run failed keeps the rounds aligned with the search's own timing of the match.
     ms.push_back(run.status == RunStatus::Success ? run.scatterMs()
                                                   : std::max(eq.timeAt(b.sampling, sm, b.match.steps), 0.0));

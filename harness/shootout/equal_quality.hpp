@@ -11,6 +11,7 @@
 #pragma once
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -55,6 +56,8 @@ class RenderedBaseline : public BaselineSource {
 
  private:
   MethodRun run(Runner& runner, const FrameSchedule& schedule, const std::string& sampling, int sm, int steps);
+  // Each point's spec resolved once (its error and its time are two runs of it).
+  const ResolvedSpec& resolved(const std::string& sampling, int sm, int steps);
 
   const gl::Limits& limits_;
   const MethodRegistry& registry_;
@@ -64,6 +67,7 @@ class RenderedBaseline : public BaselineSource {
   std::string method_;
   std::unique_ptr<Method> baselineMethod_;
   std::vector<std::string> samplings_;
+  std::map<std::tuple<std::string, int, int>, ResolvedSpec> resolved_;
 };
 
 class EqualQuality {
@@ -107,6 +111,7 @@ struct RowMatches {
     std::string sampling, spec;
     EqualQuality::Match match;
     std::vector<double> roundMs;
+    std::optional<ResolvedSpec> resolved;  // `spec` resolved, once, by the first round that times it
   };
   std::vector<Timed> baselines;
 };
@@ -120,7 +125,7 @@ RowMatches matchRow(const Measured& m, EqualQuality& eq, const RunPlan& plan);
 // Times each reached baseline of a row once more, as the rows are timed: the speedups are ratios
 // of figures measured side by side in every round (a baseline never reached keeps the bisection's
 // time, a lower bound). Returns this round's time per baseline of `matches` (0 for one not reached).
-std::vector<double> timeMatchedBaselines(const RowMatches& matches, Runner& runner, const FrameSchedule& schedule,
+std::vector<double> timeMatchedBaselines(RowMatches& matches, Runner& runner, const FrameSchedule& schedule,
                                          const MethodRegistry& registry, const gl::Limits& limits, EqualQuality& eq,
                                          int sm, Progress& progress);
 
