@@ -288,13 +288,7 @@ layout(binding = VS_UNIT_VOLUME_DENSITY0) uniform sampler3D volumeDensity[4];
 float volumeDensityAt(int i, vec3 x) {
   vec3 f = (x - vol.boxLo[i].xyz) / max(vol.boxHi[i].xyz - vol.boxLo[i].xyz, vec3(1e-30));
   if (any(lessThan(f, vec3(0.0))) || any(greaterThan(f, vec3(1.0)))) return 0.0;
-  // One constant index per branch: llvmpipe (Mesa 22.3) indexing the sampler array with the loop's
-  // (dynamically uniform, so legal) index made a later texture read in the same shader return
-  // wrong texels (froxel's history with two or more volumes).
-  if (i == 0) return textureLod(volumeDensity[0], f, 0.0).r;
-  if (i == 1) return textureLod(volumeDensity[1], f, 0.0).r;
-  if (i == 2) return textureLod(volumeDensity[2], f, 0.0).r;
-  return textureLod(volumeDensity[3], f, 0.0).r;
+  return textureLod(volumeDensity[i], f, 0.0).r;
 }
 
 // rgb sigma_s and sigma_t of all volumes at x.

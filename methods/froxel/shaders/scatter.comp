@@ -35,6 +35,18 @@ void main() {
   vec3 eye = u.eye.xyz;
   float t0 = froxelBoundary(float(c.z)), t1 = froxelBoundary(float(c.z + 1));
   int n = max(int(fx.range.z), 1);
+  // The history first: the froxel's centre in boundary-index space (its texel centre), so that a
+  // still camera finds each froxel's own history and no other slice's. Read before the volumes'
+  // loop: llvmpipe (Mesa 22.3) returned wrong texels for this read when it followed the loop's
+  // indexing of the volumes' sampler array (legal GLSL, any order is right on other drivers).
+  vec3 coord, scatteringBefore = vec3(0.0), extinctionBefore = vec3(0.0);
+  const bool history = fx.previousEye.w > 0.0 && previousGridCoord(eye + dir * froxelBoundary(float(c.z) + 0.5), coord);
+  if (history) {
+    scatteringBefore = textureLod(scatteringHistory, coord, 0.0).rgb;
+#if VS_VOLUMES > 0
+    extinctionBefore = textureLod(extinctionHistory, coord, 0.0).rgb;
+#endif
+  }
   vec3 inscatter = vec3(0.0), volumeExt = vec3(0.0);
   for (int i = 0; i < n; ++i) {
     float t = mix(t0, t1, (float(i) + fx.range.w) / float(n));
@@ -53,14 +65,9 @@ void main() {
   }
   inscatter /= float(n);
   volumeExt /= float(n);
-  vec3 coord;
-  // The froxel's centre in boundary-index space (its texel centre), so that a still camera finds
-  // each froxel's own history and no other slice's.
-  if (fx.previousEye.w > 0.0 && previousGridCoord(eye + dir * froxelBoundary(float(c.z) + 0.5), coord)) {
-    inscatter = mix(inscatter, textureLod(scatteringHistory, coord, 0.0).rgb, fx.previousEye.w);
-#if VS_VOLUMES > 0
-    volumeExt = mix(volumeExt, textureLod(extinctionHistory, coord, 0.0).rgb, fx.previousEye.w);
-#endif
+  if (history) {
+    inscatter = mix(inscatter, scatteringBefore, fx.previousEye.w);
+    volumeExt = mix(volumeExt, extinctionBefore, fx.previousEye.w);
   }
   imageStore(scatteringOut, c, vec4(inscatter, 0.0));
 #if VS_VOLUMES > 0
